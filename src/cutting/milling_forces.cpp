@@ -41,8 +41,11 @@ MillingForceModel::MillingForceModel(const tool::Tool& tool, const CuttingLaw& l
   pairs_.reserve(elements_.size() * static_cast<std::size_t>(teeth));
   radius_steps_m_.reserve(pairs_.capacity() * static_cast<std::size_t>(teeth));
   for (const tool::EdgeElement& element : elements_) {
-    element_sin_kappa_.push_back(std::sin(element.kappa_rad));
-    element_cos_kappa_.push_back(std::cos(element.kappa_rad));
+    // Cylindrical edges get exact sin κ = 1, cos κ = 0 (cos(π/2) in floating
+    // point is 6e-17 and would leak a spurious axial force).
+    const bool cylindrical = element.kappa_rad == 0.5 * std::numbers::pi;
+    element_sin_kappa_.push_back(cylindrical ? 1.0 : std::sin(element.kappa_rad));
+    element_cos_kappa_.push_back(cylindrical ? 0.0 : std::cos(element.kappa_rad));
     const Engagement engagement = radial_engagement(tool.radius_m(), element.radius_m,
                                                     process.radial_depth_m, process.direction);
     for (int j = 0; j < teeth; ++j) {

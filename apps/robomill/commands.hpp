@@ -1,0 +1,44 @@
+#pragma once
+// The command-line tool's commands. Each is thin: load and validate the job,
+// call the library, hand results to the writers.
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "robomill/io/job.hpp"
+
+namespace robomill::app {
+
+/// Options every job command shares (`robomill <command> JOB ...`).
+struct JobCommandOptions {
+  std::filesystem::path job_file;
+  std::filesystem::path out_dir;  ///< empty: job's output.dir, else out/<command>
+  std::vector<std::string> overrides;
+  int threads = 0;
+  bool quiet = false;
+};
+
+/// Parses the `--set` assignments and loads the job (throws InputError).
+io::Job load(const JobCommandOptions& options);
+
+/// The folder a command writes into: --out, else the job's output.dir
+/// (relative to the job file), else out/<command>.
+std::filesystem::path output_dir(const JobCommandOptions& options, const io::Job& job,
+                                 const std::string& command);
+
+int run_validate(const JobCommandOptions& options);
+int run_forces(const JobCommandOptions& options);
+
+struct IdentifyOptions {
+  std::filesystem::path data_file;
+  std::filesystem::path job_file;  ///< optional: tool and process from a job
+  std::string teeth, axial_depth, radial_depth, diameter;  ///< quantities as typed
+  std::string direction;           ///< "down" | "up" (default down; irrelevant for slots)
+  std::string measured_on = "tool";  ///< "tool" | "workpiece" (dynamometer)
+  std::filesystem::path out_dir;
+  bool quiet = false;
+};
+int run_identify_cutting(const IdentifyOptions& options);
+
+}  // namespace robomill::app

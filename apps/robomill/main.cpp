@@ -1,0 +1,96 @@
+// robomill — predicts and plans robotic milling. See DESIGN.md §4.
+//
+// Exit codes: 0 success, 2 invalid job or arguments, 1 any other failure.
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <exception>
+#include <iostream>
+#include <string>
+
+#include "commands.hpp"
+#include "robomill/core/error.hpp"
+
+namespace {
+
+constexpr int kExitFailure = 1;
+constexpr int kExitInvalidInput = 2;
+
+void add_job_options(CLI::App& command, robomill::app::JobCommandOptions& options,
+                     bool writes_output) {
+  command.add_option("JOB", options.job_file, "job file (YAML)")->required();
+  command.add_option("--set", options.overrides,
+                     "override a job field before validation, e.g. --set process.ae=\"2 mm\"")
+      ->type_name("KEY.PATH=VALUE");
+  if (writes_output) {
+    command.add_option("--out", options.out_dir,
+                       "output folder (default: the job's output.dir, else out/<command>)");
+    command.add_option("--threads", options.threads, "worker threads (default: all cores)")
+        ->check(CLI::NonNegativeNumber);
+  }
+  command.add_flag("--quiet", options.quiet, "print nothing but errors");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"robomill — predicts and plans robotic milling"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "robomill 0.1.0");
+
+  robomill::app::JobCommandOptions validate_options, forces_options;
+  CLI::App* validate = app.add_subcommand("validate", "check a job file without running it");
+  add_job_options(*validate, validate_options, false);
+
+  CLI::App* forces = app.add_subcommand(
+      "forces", "milling forces and spindle torque over whole revolutions → forces.csv, summary.json");
+  add_job_options(*forces, forces_options, true);
+
+  robomill::app::IdentifyOptions identify_options;
+  CLI::App* identify = app.add_subcommand(
+      "identify-cutting",
+      "least-squares linear cutting coefficients from mean forces measured at several feeds "
+      "(columns feed_per_tooth_mm,fx_N,fy_N,fz_N; optional ap_mm, ae_mm)");
+  identify->add_option("DATA", identify_options.data_file, "CSV of mean forces")->required();
+  identify->add_option("--job", identify_options.job_file,
+                       "take teeth, diameter, ap, ae and direction from this job");
+  identify->add_option("--teeth", identify_options.teeth, "number of teeth");
+  identify->add_option("--ap", identify_options.axial_depth, "axial depth (default unit mm)");
+  identify->add_option("--ae", identify_options.radial_depth,
+                       "radial depth (default unit mm; default: slot)");
+  identify->add_option("--diameter", identify_options.diameter,
+                       "tool diameter (default unit mm; needed for partial immersion)");
+  identify->add_option("--direction", identify_options.direction, "down or up milling")
+      ->check(CLI::IsMember({"down", "up"}));
+  identify->add_option("--measured-on", identify_options.measured_on,
+                       "'tool' (forces on the cutter, tool frame) or 'workpiece' (a "
+                       "dynamometer under the part: forces are negated)")
+      ->check(CLI::IsMember({"tool", "workpiece"}));
+  identify->add_option("--out", identify_options.out_dir,
+                       "output folder (default out/identify-cutting)");
+  identify->add_flag("--quiet", identify_options.quiet, "print nothing but errors");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& error) {
+    const int code = app.exit(error);
+    return code == 0 ? 0 : kExitInvalidInput;
+  }
+
+  try {
+    if (validate->parsed()) return robomill::app::run_validate(validate_options);
+    if (forces->parsed()) return robomill::app::run_forces(forces_options);
+    if (identify->parsed()) return robomill::app::run_identify_cutting(identify_options);
+  } catch (const robomill::InputError& error) {
+    std::cerr << "robomill: error: " << error.what() << '\n';
+    return kExitInvalidInput;
+  } catch (const std::invalid_argument& error) {
+    // Model constructors reject what the parser let through (it should not).
+    std::cerr << "robomill: invalid input: " << error.what() << '\n';
+    return kExitInvalidInput;
+  } catch (const std::exception& error) {
+    std::cerr << "robomill: failed: " << error.what() << '\n';
+    return kExitFailure;
+  }
+  return kExitFailure;
+}

@@ -1,0 +1,147 @@
+#include "robomill/io/csv.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "robomill/core/error.hpp"
+
+namespace robomill::io {
+namespace {
+
+std::string trim(const std::string& text) {
+  const auto first = text.find_first_not_of(" \t\r");
+  if (first == std::string::npos)
+    return {};
+  const auto last = text.find_last_not_of(" \t\r");
+  return text.substr(first, last - first + 1);
+}
+
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> cells;
+  std::stringstream stream(line);
+  std::string cell;
+  while (std::getline(stream, cell, ','))
+    cells.push_back(trim(cell));
+  if (!line.empty() && line.back() == ',')
+    cells.emplace_back();
+  return cells;
+}
+
+}  // namespace
+
+CsvTable::CsvTable(std::vector<std::string> columns) : columns_(std::move(columns)) {
+  if (columns_.empty())
+    throw std::invalid_argument("a CSV table needs at least one column");
+}
+
+void CsvTable::add_row(const std::vector<double>& values) {
+  if (values.size() != columns_.size()) {
+    throw std::invalid_argument("CSV row has " + std::to_string(values.size()) + " values for " +
+                                std::to_string(columns_.size()) + " columns");
+  }
+  for (std::size_t c = 0; c < values.size(); ++c) {
+    if (!std::isfinite(values[c])) {
+      throw NumericalError("non-finite value in column '" + columns_[c] + "' (row " +
+                           std::to_string(rows() + 1) + "); refusing to write it");
+    }
+  }
+  values_.insert(values_.end(), values.begin(), values.end());
+}
+
+int CsvTable::find(const std::string& column) const noexcept {
+  for (std::size_t c = 0; c < columns_.size(); ++c) {
+    if (columns_[c] == column)
+      return static_cast<int>(c);
+  }
+  return -1;
+}
+
+std::string CsvTable::to_string() const {
+  std::string text;
+  text.reserve(values_.size() * 14 + 64);
+  for (std::size_t c = 0; c < columns_.size(); ++c) {
+    if (c)
+      text += ',';
+    text += columns_[c];
+  }
+  text += '\n';
+  char buffer[64];
+  for (std::size_t r = 0; r < rows(); ++r) {
+    for (std::size_t c = 0; c < columns_.size(); ++c) {
+      if (c)
+        text += ',';
+      double value = at(r, c);
+      if (value == 0.0)
+        value = 0.0;  // no "-0"
+      const auto result =
+          std::to_chars(buffer, buffer + sizeof buffer, value, std::chars_format::general, 12);
+      text.append(buffer, result.ptr);
+    }
+    text += '\n';
+  }
+  return text;
+}
+
+CsvTable parse_csv(const std::string& text, const std::string& source_name) {
+  std::stringstream stream(text);
+  std::string line;
+  int line_number = 0;
+  std::vector<std::string> header;
+  std::vector<std::vector<double>> rows;
+  while (std::getline(stream, line)) {
+    ++line_number;
+    const std::string content = trim(line);
+    if (content.empty() || content[0] == '#')
+      continue;
+    std::vector<std::string> cells = split(content);
+    if (header.empty()) {
+      for (const std::string& cell : cells) {
+        if (cell.empty())
+          throw InputError(source_name, line_number, "empty column name in header");
+      }
+      header = std::move(cells);
+      continue;
+    }
+    if (cells.size() != header.size()) {
+      throw InputError(source_name, line_number,
+                       "expected " + std::to_string(header.size()) + " values (" +
+                           std::to_string(header.size()) + " columns), got " +
+                           std::to_string(cells.size()));
+    }
+    std::vector<double> values;
+    for (std::size_t c = 0; c < cells.size(); ++c) {
+      double value = 0.0;
+      const char* begin = cells[c].data();
+      const char* end = begin + cells[c].size();
+      const auto result = std::from_chars(begin, end, value);
+      if (cells[c].empty() || result.ec != std::errc() || result.ptr != end ||
+          !std::isfinite(value)) {
+        throw InputError(
+            source_name, line_number,
+            "column '" + header[c] + "': expected a finite number, got '" + cells[c] + "'");
+      }
+      values.push_back(value);
+    }
+    rows.push_back(std::move(values));
+  }
+  if (header.empty())
+    throw InputError(source_name, 0, "empty file: expected a header row");
+  CsvTable table(header);
+  for (const auto& row : rows)
+    table.add_row(row);
+  return table;
+}
+
+CsvTable read_csv(const std::filesystem::path& file) {
+  std::ifstream stream(file, std::ios::binary);
+  if (!stream)
+    throw InputError(file.string(), 0, "cannot open file");
+  std::stringstream buffer;
+  buffer << stream.rdbuf();
+  return parse_csv(buffer.str(), file.string());
+}
+
+}  // namespace robomill::io
