@@ -41,8 +41,9 @@ fuzz: setup
 	  -DROBOMILL_BUILD_FUZZ=ON -DROBOMILL_BUILD_TESTS=OFF -DROBOMILL_BUILD_BENCH=OFF
 	cmake --build $(FUZZ_BUILD) --target fuzz_job_parser -j$(JOBS)
 	mkdir -p $(FUZZ_BUILD)/corpus-run
-	./$(FUZZ_BUILD)/fuzz/fuzz_job_parser -max_total_time=$(FUZZ_SECONDS) -print_final_stats=1 \
-	  -artifact_prefix=$(FUZZ_BUILD)/ $(FUZZ_BUILD)/corpus-run fuzz/corpus
+	./$(FUZZ_BUILD)/fuzz/fuzz_job_parser -dict=fuzz/job.dict -max_total_time=$(FUZZ_SECONDS) \
+	  -timeout=10 -print_final_stats=1 -artifact_prefix=$(FUZZ_BUILD)/ \
+	  $(FUZZ_BUILD)/corpus-run fuzz/corpus
 
 bench: build
 	for b in $(BUILD)/bench/bench_*; do $$b --benchmark_min_time=0.2; done

@@ -47,8 +47,8 @@ void BM_SampleForces(benchmark::State& state) {
     benchmark::DoNotOptimize(cutting::sample_forces(model, sampling, threads));
   }
   const double samples = 10.0 * 3.0 * 360.0;
-  state.counters["samples_per_s"] =
-      benchmark::Counter(samples * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["samples_per_s"] = benchmark::Counter(
+      samples * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
   state.counters["element_evals_per_s"] = benchmark::Counter(
       samples * 100.0 * 3.0 * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }

@@ -90,12 +90,15 @@ int run_forces(const JobCommandOptions& options) {
       {"elapsed_s", elapsed_s},
       {"frame", "forces on the tool, tool frame: x feed, z tool axis towards the spindle"},
   };
-  if (!job.name.empty()) summary["name"] = job.name;
+  if (!job.name.empty())
+    summary["name"] = job.name;
 
   const std::filesystem::path out = output_dir(options, job, "forces");
   io::OutputBundle bundle(out);
-  if (job.output.csv) bundle.add("forces.csv", force_table(series).to_string());
-  if (job.output.json) bundle.add("summary.json", io::summary_text(summary));
+  if (job.output.csv)
+    bundle.add("forces.csv", force_table(series).to_string());
+  if (job.output.json)
+    bundle.add("summary.json", io::summary_text(summary));
   bundle.commit();
 
   if (!options.quiet) {
@@ -104,10 +107,9 @@ int run_forces(const JobCommandOptions& options) {
         "  mean  Fx {:10.2f} N  Fy {:10.2f} N  Fz {:10.2f} N  torque {:.3f} N·m\n"
         "  peak  Fx {:10.2f} N  Fy {:10.2f} N  Fz {:10.2f} N  torque {:.3f} N·m\n"
         "  written to {}\n",
-        series.size(), sampling.revolutions, tooth_period_s, 1.0 / tooth_period_s,
-        stats.mean_n.x(), stats.mean_n.y(), stats.mean_n.z(), stats.mean_torque_nm,
-        stats.peak_n.x(), stats.peak_n.y(), stats.peak_n.z(), stats.peak_torque_nm,
-        out.string());
+        series.size(), sampling.revolutions, tooth_period_s, 1.0 / tooth_period_s, stats.mean_n.x(),
+        stats.mean_n.y(), stats.mean_n.z(), stats.mean_torque_nm, stats.peak_n.x(),
+        stats.peak_n.y(), stats.peak_n.z(), stats.peak_torque_nm, out.string());
   }
   return 0;
 }

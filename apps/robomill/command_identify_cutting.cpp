@@ -22,14 +22,15 @@ namespace {
 
 /// A length typed on the command line: "2", "2 mm", "0.002 m" (bare = mm).
 std::optional<double> length_option(const std::string& text, const std::string& option) {
-  if (text.empty()) return std::nullopt;
+  if (text.empty())
+    return std::nullopt;
   io::Quantity quantity;
   try {
     quantity = io::parse_quantity(text);
   } catch (const std::invalid_argument& error) {
     throw InputError(option, 0, error.what());
   }
-  double meters = quantity.si_value;
+  double meters = quantity.value_si;
   if (quantity.dimension == io::dimensions::none) {
     meters *= 1e-3;
   } else if (!(quantity.dimension == io::dimensions::length)) {
@@ -65,7 +66,8 @@ TestSetup setup_from(const IdentifyOptions& options) {
     try {
       std::size_t used = 0;
       setup.teeth = std::stoi(options.teeth, &used);
-      if (used != options.teeth.size()) throw std::invalid_argument("trailing characters");
+      if (used != options.teeth.size())
+        throw std::invalid_argument("trailing characters");
     } catch (const std::exception&) {
       throw InputError("--teeth", 0, "expected a positive integer, got '" + options.teeth + "'");
     }
@@ -73,9 +75,12 @@ TestSetup setup_from(const IdentifyOptions& options) {
   if (setup.teeth < 1) {
     throw InputError("--teeth", 0, "the number of teeth is required (--teeth or --job) and ≥ 1");
   }
-  if (auto v = length_option(options.axial_depth, "--ap")) setup.axial_depth_m = v;
-  if (auto v = length_option(options.radial_depth, "--ae")) setup.radial_depth_m = v;
-  if (auto v = length_option(options.diameter, "--diameter")) setup.diameter_m = v;
+  if (auto v = length_option(options.axial_depth, "--ap"))
+    setup.axial_depth_m = v;
+  if (auto v = length_option(options.radial_depth, "--ae"))
+    setup.radial_depth_m = v;
+  if (auto v = length_option(options.diameter, "--diameter"))
+    setup.diameter_m = v;
   if (!options.direction.empty()) {
     setup.direction =
         options.direction == "up" ? cutting::MillingDirection::up : cutting::MillingDirection::down;
@@ -85,7 +90,8 @@ TestSetup setup_from(const IdentifyOptions& options) {
 
 cutting::Engagement engagement_for(const TestSetup& setup, std::optional<double> radial_depth_m,
                                    const std::string& where) {
-  if (!radial_depth_m) return {0.0, std::numbers::pi};  // slot
+  if (!radial_depth_m)
+    return {0.0, std::numbers::pi};  // slot
   if (!setup.diameter_m) {
     throw InputError(where, 0, "a radial depth needs the tool diameter (--diameter or --job)");
   }
@@ -119,27 +125,33 @@ int run_identify_cutting(const IdentifyOptions& options) {
     const std::string where = source + " row " + std::to_string(r + 1);
     cutting::MeanForceMeasurement test;
     test.feed_per_tooth_m = data.at(r, static_cast<std::size_t>(feed_col)) * 1e-3;
-    test.mean_force_n = sign * Eigen::Vector3d(data.at(r, static_cast<std::size_t>(data.find("fx_N"))),
-                                               data.at(r, static_cast<std::size_t>(data.find("fy_N"))),
-                                               data.at(r, static_cast<std::size_t>(data.find("fz_N"))));
+    test.mean_force_n =
+        sign * Eigen::Vector3d(data.at(r, static_cast<std::size_t>(data.find("fx_N"))),
+                               data.at(r, static_cast<std::size_t>(data.find("fy_N"))),
+                               data.at(r, static_cast<std::size_t>(data.find("fz_N"))));
     test.teeth = setup.teeth;
     std::optional<double> ap = setup.axial_depth_m;
-    if (ap_col >= 0) ap = data.at(r, static_cast<std::size_t>(ap_col)) * 1e-3;
-    if (!ap || !(*ap > 0.0)) throw InputError(where, 0, "axial depth missing (ap_mm column, --ap or --job)");
+    if (ap_col >= 0)
+      ap = data.at(r, static_cast<std::size_t>(ap_col)) * 1e-3;
+    if (!ap || !(*ap > 0.0))
+      throw InputError(where, 0, "axial depth missing (ap_mm column, --ap or --job)");
     test.axial_depth_m = *ap;
     std::optional<double> ae = setup.radial_depth_m;
-    if (ae_col >= 0) ae = data.at(r, static_cast<std::size_t>(ae_col)) * 1e-3;
-    if (ae && !(*ae > 0.0)) throw InputError(where, 0, "radial depth must be positive");
+    if (ae_col >= 0)
+      ae = data.at(r, static_cast<std::size_t>(ae_col)) * 1e-3;
+    if (ae && !(*ae > 0.0))
+      throw InputError(where, 0, "radial depth must be positive");
     test.engagement = engagement_for(setup, ae, where);
     tests.push_back(test);
   }
-  if (tests.empty()) throw InputError(source, 0, "no data rows");
+  if (tests.empty())
+    throw InputError(source, 0, "no data rows");
 
   const cutting::CoefficientFit fit = cutting::identify_linear_coefficients(tests);
   const cutting::LinearLaw& k = fit.coefficients;
 
-  io::CsvTable table({"feed_per_tooth_mm", "fx_N", "fy_N", "fz_N", "fx_fit_N", "fy_fit_N",
-                      "fz_fit_N"});
+  io::CsvTable table(
+      {"feed_per_tooth_mm", "fx_N", "fy_N", "fz_N", "fx_fit_N", "fy_fit_N", "fz_fit_N"});
   for (std::size_t i = 0; i < tests.size(); ++i) {
     const Eigen::Vector3d& m = tests[i].mean_force_n;
     const Eigen::Vector3d& f = fit.fitted_n[i];

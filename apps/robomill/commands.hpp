@@ -34,7 +34,7 @@ struct IdentifyOptions {
   std::filesystem::path data_file;
   std::filesystem::path job_file;  ///< optional: tool and process from a job
   std::string teeth, axial_depth, radial_depth, diameter;  ///< quantities as typed
-  std::string direction;           ///< "down" | "up" (default down; irrelevant for slots)
+  std::string direction;             ///< "down" | "up" (default down; irrelevant for slots)
   std::string measured_on = "tool";  ///< "tool" | "workpiece" (dynamometer)
   std::filesystem::path out_dir;
   bool quiet = false;

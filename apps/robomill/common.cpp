@@ -15,8 +15,10 @@ io::Job load(const JobCommandOptions& options) {
 
 std::filesystem::path output_dir(const JobCommandOptions& options, const io::Job& job,
                                  const std::string& command) {
-  if (!options.out_dir.empty()) return options.out_dir;
-  if (!job.output.dir.empty()) return job.resolve(job.output.dir);
+  if (!options.out_dir.empty())
+    return options.out_dir;
+  if (!job.output.dir.empty())
+    return job.resolve(job.output.dir);
   return std::filesystem::path("out") / command;
 }
 
@@ -26,14 +28,16 @@ int run_validate(const JobCommandOptions& options) {
     std::cout << options.job_file.string() << ": valid";
     std::string sections;
     auto add = [&](bool present, const char* name) {
-      if (present) sections += sections.empty() ? name : std::string(", ") + name;
+      if (present)
+        sections += sections.empty() ? name : std::string(", ") + name;
     };
     add(job.tool.has_value(), "tool");
     add(job.cutting.has_value(), "cutting");
     add(job.process.has_value(), "process");
     add(!job.modes.empty(), "dynamics");
     add(!job.experiments.empty(), "experiments");
-    if (!sections.empty()) std::cout << " (" << sections << ")";
+    if (!sections.empty())
+      std::cout << " (" << sections << ")";
     std::cout << '\n';
   }
   return 0;

@@ -19,8 +19,9 @@ constexpr int kExitInvalidInput = 2;
 void add_job_options(CLI::App& command, robomill::app::JobCommandOptions& options,
                      bool writes_output) {
   command.add_option("JOB", options.job_file, "job file (YAML)")->required();
-  command.add_option("--set", options.overrides,
-                     "override a job field before validation, e.g. --set process.ae=\"2 mm\"")
+  command
+      .add_option("--set", options.overrides,
+                  "override a job field before validation, e.g. --set process.ae=\"2 mm\"")
       ->type_name("KEY.PATH=VALUE");
   if (writes_output) {
     command.add_option("--out", options.out_dir,
@@ -43,7 +44,8 @@ int main(int argc, char** argv) {
   add_job_options(*validate, validate_options, false);
 
   CLI::App* forces = app.add_subcommand(
-      "forces", "milling forces and spindle torque over whole revolutions → forces.csv, summary.json");
+      "forces",
+      "milling forces and spindle torque over whole revolutions → forces.csv, summary.json");
   add_job_options(*forces, forces_options, true);
 
   robomill::app::IdentifyOptions identify_options;
@@ -62,9 +64,10 @@ int main(int argc, char** argv) {
                        "tool diameter (default unit mm; needed for partial immersion)");
   identify->add_option("--direction", identify_options.direction, "down or up milling")
       ->check(CLI::IsMember({"down", "up"}));
-  identify->add_option("--measured-on", identify_options.measured_on,
-                       "'tool' (forces on the cutter, tool frame) or 'workpiece' (a "
-                       "dynamometer under the part: forces are negated)")
+  identify
+      ->add_option("--measured-on", identify_options.measured_on,
+                   "'tool' (forces on the cutter, tool frame) or 'workpiece' (a "
+                   "dynamometer under the part: forces are negated)")
       ->check(CLI::IsMember({"tool", "workpiece"}));
   identify->add_option("--out", identify_options.out_dir,
                        "output folder (default out/identify-cutting)");
@@ -78,9 +81,12 @@ int main(int argc, char** argv) {
   }
 
   try {
-    if (validate->parsed()) return robomill::app::run_validate(validate_options);
-    if (forces->parsed()) return robomill::app::run_forces(forces_options);
-    if (identify->parsed()) return robomill::app::run_identify_cutting(identify_options);
+    if (validate->parsed())
+      return robomill::app::run_validate(validate_options);
+    if (forces->parsed())
+      return robomill::app::run_forces(forces_options);
+    if (identify->parsed())
+      return robomill::app::run_identify_cutting(identify_options);
   } catch (const robomill::InputError& error) {
     std::cerr << "robomill: error: " << error.what() << '\n';
     return kExitInvalidInput;

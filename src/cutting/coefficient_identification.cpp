@@ -22,7 +22,8 @@ CoefficientFit identify_linear_coefficients(const std::vector<MeanForceMeasureme
     if (!std::isfinite(test.feed_per_tooth_m) || !(test.feed_per_tooth_m > 0.0)) {
       throw InputError(where, 0, "feed per tooth must be positive and finite");
     }
-    if (!test.mean_force_n.allFinite()) throw InputError(where, 0, "force must be finite");
+    if (!test.mean_force_n.allFinite())
+      throw InputError(where, 0, "force must be finite");
     if (test.teeth < 1 || !(test.axial_depth_m > 0.0) || test.engagement.empty()) {
       throw InputError(where, 0, "needs teeth ≥ 1, a positive axial depth and an engagement");
     }

@@ -14,10 +14,14 @@ namespace {
 
 void check_process(const tool::Tool& tool, const MillingProcess& process) {
   auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
-  if (!positive(process.spindle_rad_s)) throw std::invalid_argument("spindle speed must be positive");
-  if (!positive(process.feed_per_tooth_m)) throw std::invalid_argument("feed per tooth must be positive");
-  if (!positive(process.axial_depth_m)) throw std::invalid_argument("axial depth must be positive");
-  if (!positive(process.radial_depth_m)) throw std::invalid_argument("radial depth must be positive");
+  if (!positive(process.spindle_rad_s))
+    throw std::invalid_argument("spindle speed must be positive");
+  if (!positive(process.feed_per_tooth_m))
+    throw std::invalid_argument("feed per tooth must be positive");
+  if (!positive(process.axial_depth_m))
+    throw std::invalid_argument("axial depth must be positive");
+  if (!positive(process.radial_depth_m))
+    throw std::invalid_argument("radial depth must be positive");
   if (process.radial_depth_m > tool.diameter_m() * (1.0 + 1e-12)) {
     throw std::invalid_argument("radial depth exceeds the tool diameter");
   }
@@ -29,10 +33,10 @@ MillingForceModel::MillingForceModel(const tool::Tool& tool, const CuttingLaw& l
                                      const MillingProcess& process, int axial_elements)
     : tool_(tool),
       process_((check_process(tool, process), process)),
-      law_(law, mean_chip_thickness_m(process.feed_per_tooth_m,
-                                      radial_engagement(tool.radius_m(), tool.radius_m(),
-                                                        process.radial_depth_m,
-                                                        process.direction))),
+      law_(law,
+           mean_chip_thickness_m(process.feed_per_tooth_m,
+                                 radial_engagement(tool.radius_m(), tool.radius_m(),
+                                                   process.radial_depth_m, process.direction))),
       nominal_engagement_(radial_engagement(tool.radius_m(), tool.radius_m(),
                                             process.radial_depth_m, process.direction)),
       mean_chip_m_(mean_chip_thickness_m(process.feed_per_tooth_m, nominal_engagement_)),
@@ -83,7 +87,8 @@ ToolLoad MillingForceModel::at(double rotation_rad) const noexcept {
     for (int j = 0; j < teeth; ++j) {
       const ElementTooth& pair = pairs_[e * static_cast<std::size_t>(teeth) + j];
       const double phi = wrap_angle_rad(rotation_rad + pair.angle_offset_rad);
-      if (phi < pair.entry_rad || phi > pair.exit_rad) continue;  // g = 0 (000 Eq 12)
+      if (phi < pair.entry_rad || phi > pair.exit_rad)
+        continue;  // g = 0 (000 Eq 12)
       const double sin_phi = std::sin(phi);
       const double cos_phi = std::cos(phi);
       double chip = std::numeric_limits<double>::infinity();
@@ -149,7 +154,8 @@ ForceStatistics summarize(const ForceSeries& series, double spindle_rad_s) {
     stats.min_n = stats.min_n.cwiseMin(f);
     stats.max_n = stats.max_n.cwiseMax(f);
     for (int c = 0; c < 3; ++c) {
-      if (std::abs(f[c]) > std::abs(stats.peak_n[c])) stats.peak_n[c] = f[c];
+      if (std::abs(f[c]) > std::abs(stats.peak_n[c]))
+        stats.peak_n[c] = f[c];
     }
     stats.mean_torque_nm += series.torque_nm[i];
     stats.peak_torque_nm = std::max(stats.peak_torque_nm, std::abs(series.torque_nm[i]));
@@ -168,7 +174,8 @@ int default_axial_elements(const tool::Tool& tool, double axial_depth_m) {
   constexpr double lag_per_element_rad = 0.5 * std::numbers::pi / 180.0;
   const double lag_rad = tool.lag_angle_rad(axial_depth_m);
   int count = static_cast<int>(std::ceil(lag_rad / lag_per_element_rad));
-  if (tool.type() == tool::ToolType::ball) count = std::max(count, 40);
+  if (tool.type() == tool::ToolType::ball)
+    count = std::max(count, 40);
   return std::clamp(count, 1, 2000);
 }
 

@@ -10,7 +10,8 @@ namespace robomill::tool {
 namespace {
 
 void require(bool condition, const std::string& message) {
-  if (!condition) throw std::invalid_argument(message);
+  if (!condition)
+    throw std::invalid_argument(message);
 }
 
 }  // namespace
@@ -39,7 +40,8 @@ double Tool::pitch_angle_rad(int tooth) const noexcept {
 
 double Tool::axial_immersion_rad(double height_m) const noexcept {
   const double radius = radius_m();
-  if (spec_.type == ToolType::flat || height_m >= radius) return 0.5 * std::numbers::pi;
+  if (spec_.type == ToolType::flat || height_m >= radius)
+    return 0.5 * std::numbers::pi;
   // 001 Eq 1: on the ball z = R (1 − cos κ) measured from the tip.
   return std::acos(std::clamp(1.0 - height_m / radius, -1.0, 1.0));
 }
@@ -64,11 +66,13 @@ double Tool::edge_radius_with_runout_m(int tooth, double height_m) const noexcep
 }
 
 std::vector<EdgeElement> discretize_edge(const Tool& tool, double axial_depth_m, int count) {
-  if (!(axial_depth_m > 0.0)) throw std::invalid_argument("axial depth must be positive");
+  if (!(axial_depth_m > 0.0))
+    throw std::invalid_argument("axial depth must be positive");
   if (axial_depth_m > tool.overhang_m() * (1.0 + 1e-12)) {
     throw std::invalid_argument("axial depth exceeds the tool overhang");
   }
-  if (count < 1) throw std::invalid_argument("need at least one axial element");
+  if (count < 1)
+    throw std::invalid_argument("need at least one axial element");
 
   const double radius = tool.radius_m();
   std::vector<EdgeElement> elements;
@@ -84,7 +88,8 @@ std::vector<EdgeElement> discretize_edge(const Tool& tool, double axial_depth_m,
   if (ball_depth_m > 0.0) {
     const double share = ball_arc_m / (ball_arc_m + cylinder_depth_m);
     ball_count = std::clamp(static_cast<int>(std::lround(share * count)), 1, count);
-    if (cylinder_depth_m > 0.0 && ball_count == count && count > 1) --ball_count;
+    if (cylinder_depth_m > 0.0 && ball_count == count && count > 1)
+      --ball_count;
   }
   const int cylinder_count = cylinder_depth_m > 0.0 ? std::max(count - ball_count, 1) : 0;
 

@@ -43,7 +43,8 @@ TEST(FractionalLaw, LimitsOfPaper002Eq26) {
   const double width = 1e-3;
   // Small chips: slope k0/hs per unit width (finite, unlike the exponential law).
   const double tiny = 1e-10;
-  EXPECT_NEAR(resolved(tiny, width).tangential_n / (tiny * width), 5e6 / 1.8e-5, 1e-3 * 5e6 / 1.8e-5);
+  EXPECT_NEAR(resolved(tiny, width).tangential_n / (tiny * width), 5e6 / 1.8e-5,
+              1e-3 * 5e6 / 1.8e-5);
   // At h = hs: k0 (1 + r) / 2.
   EXPECT_NEAR(resolved(1.8e-5, width).tangential_n, 5e6 * width * 1.1 / 2.0, 1e-9);
   // Radial force is kr times the tangential one (002 Eq 28).

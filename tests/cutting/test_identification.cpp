@@ -16,7 +16,8 @@ constexpr double kPi = std::numbers::pi;
 // 001 Table 1 coefficients, SI.
 const cutting::LinearLaw kTruth{1661.8e6, 1240.8e6, 19.1e6, 7.1e3, 15.9e3, 2.3e3};
 
-std::vector<cutting::MeanForceMeasurement> synthesize(double ae, cutting::MillingDirection direction) {
+std::vector<cutting::MeanForceMeasurement> synthesize(double ae,
+                                                      cutting::MillingDirection direction) {
   // The paper's procedure: slot (or partial) milling at fz = 0.02 … 0.10 mm;
   // "measured" mean forces come from the time-domain force model, not from
   // the closed form the identification inverts.
@@ -74,7 +75,8 @@ TEST(CoefficientIdentification, ReportsTheResidualOfNoisyData) {
 
 TEST(CoefficientIdentification, RefusesASingleFeed) {
   auto tests = synthesize(8e-3, cutting::MillingDirection::down);
-  for (auto& test : tests) test.feed_per_tooth_m = 0.05e-3;
+  for (auto& test : tests)
+    test.feed_per_tooth_m = 0.05e-3;
   EXPECT_THROW(cutting::identify_linear_coefficients(tests), InputError);
   EXPECT_THROW(cutting::identify_linear_coefficients({}), InputError);
 }

@@ -45,8 +45,8 @@ void expect_close(const Eigen::Vector3d& simulated, const Eigen::Vector3d& close
     const double reference = std::max(std::abs(closed[c]), 0.01 * scale);
     worst = std::max(worst, std::abs(simulated[c] - closed[c]) / reference);
     EXPECT_LE(std::abs(simulated[c] - closed[c]), tolerance * reference)
-        << label << " component " << "xyz"[c] << ": simulated " << simulated[c] << " N, closed form "
-        << closed[c] << " N";
+        << label << " component "
+        << "xyz"[c] << ": simulated " << simulated[c] << " N, closed form " << closed[c] << " N";
   }
   std::cout << "[validation] mean force vs Altintas closed form, " << label
             << ": worst relative error " << worst * 100.0 << " %\n";
@@ -72,9 +72,8 @@ TEST_P(MeanForces, MatchAltintasClosedForm) {
   const cutting::MillingForceModel model(cutter, kAl7075, proc, elements);
   const auto series = cutting::sample_forces(model, {1, 2000}, 2);
   const auto stats = cutting::summarize(series, proc.spindle_rad_s);
-  const Eigen::Vector3d closed = cutting::mean_force_n(kAl7075, c.teeth, proc.axial_depth_m,
-                                                       proc.feed_per_tooth_m,
-                                                       model.nominal_engagement());
+  const Eigen::Vector3d closed = cutting::mean_force_n(
+      kAl7075, c.teeth, proc.axial_depth_m, proc.feed_per_tooth_m, model.nominal_engagement());
   expect_close(stats.mean_n, closed, 0.005,
                "ae/D " + std::to_string(c.ae_over_d) +
                    (c.direction == MillingDirection::up ? " up" : " down"));
@@ -83,25 +82,25 @@ TEST_P(MeanForces, MatchAltintasClosedForm) {
   // P = Ktc · MRR + edge power, with MRR = ae ap fz N Ω / (2π).
   const double mrr = proc.radial_depth_m * proc.axial_depth_m * proc.feed_per_tooth_m * c.teeth *
                      proc.spindle_rad_s / (2.0 * kPi);
-  const double engaged_arc = model.nominal_engagement().exit_rad - model.nominal_engagement().entry_rad;
+  const double engaged_arc =
+      model.nominal_engagement().exit_rad - model.nominal_engagement().entry_rad;
   const double edge_power = kAl7075.Kte_n_per_m * proc.axial_depth_m * cutter.radius_m() *
                             proc.spindle_rad_s * c.teeth * engaged_arc / (2.0 * kPi);
   EXPECT_NEAR(stats.mean_power_w, kAl7075.Ktc_pa * mrr + edge_power,
               0.005 * (kAl7075.Ktc_pa * mrr + edge_power));
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    SlotAndPartialImmersion, MeanForces,
-    ::testing::Values(MeanForceCase{1.0, MillingDirection::down, 2, 0.0},
-                      MeanForceCase{1.0, MillingDirection::up, 3, 30.0},
-                      MeanForceCase{0.05, MillingDirection::down, 2, 30.0},
-                      MeanForceCase{0.05, MillingDirection::up, 2, 30.0},
-                      MeanForceCase{0.25, MillingDirection::down, 3, 45.0},
-                      MeanForceCase{0.25, MillingDirection::up, 3, 45.0},
-                      MeanForceCase{0.5, MillingDirection::down, 4, 45.0},
-                      MeanForceCase{0.5, MillingDirection::up, 4, 45.0},
-                      MeanForceCase{0.75, MillingDirection::down, 2, 60.0},
-                      MeanForceCase{0.75, MillingDirection::up, 2, 60.0}));
+INSTANTIATE_TEST_SUITE_P(SlotAndPartialImmersion, MeanForces,
+                         ::testing::Values(MeanForceCase{1.0, MillingDirection::down, 2, 0.0},
+                                           MeanForceCase{1.0, MillingDirection::up, 3, 30.0},
+                                           MeanForceCase{0.05, MillingDirection::down, 2, 30.0},
+                                           MeanForceCase{0.05, MillingDirection::up, 2, 30.0},
+                                           MeanForceCase{0.25, MillingDirection::down, 3, 45.0},
+                                           MeanForceCase{0.25, MillingDirection::up, 3, 45.0},
+                                           MeanForceCase{0.5, MillingDirection::down, 4, 45.0},
+                                           MeanForceCase{0.5, MillingDirection::up, 4, 45.0},
+                                           MeanForceCase{0.75, MillingDirection::down, 2, 60.0},
+                                           MeanForceCase{0.75, MillingDirection::up, 2, 60.0}));
 
 TEST(MeanForces, SlotFormulasWrittenOut) {
   // Altintas' slot averages typed independently of mean_force_matrix():
@@ -110,9 +109,10 @@ TEST(MeanForces, SlotFormulasWrittenOut) {
   const int teeth = 3;
   const double ap = 2e-3, fz = 0.08e-3;
   const cutting::LinearLaw& k = kAl7075;
-  const Eigen::Vector3d expected(-teeth * ap * k.Krc_pa * fz / 4.0 - teeth * ap * k.Kre_n_per_m / kPi,
-                                 teeth * ap * k.Ktc_pa * fz / 4.0 + teeth * ap * k.Kte_n_per_m / kPi,
-                                 -teeth * ap * k.Kac_pa * fz / kPi - teeth * ap * k.Kae_n_per_m / 2.0);
+  const Eigen::Vector3d expected(
+      -teeth * ap * k.Krc_pa * fz / 4.0 - teeth * ap * k.Kre_n_per_m / kPi,
+      teeth * ap * k.Ktc_pa * fz / 4.0 + teeth * ap * k.Kte_n_per_m / kPi,
+      -teeth * ap * k.Kac_pa * fz / kPi - teeth * ap * k.Kae_n_per_m / 2.0);
   const Eigen::Vector3d closed = cutting::mean_force_n(k, teeth, ap, fz, {0.0, kPi});
   EXPECT_NEAR((closed - expected).norm(), 0.0, 1e-9 * expected.norm());
 
@@ -161,7 +161,7 @@ TEST(InstantaneousForce, EntryFullAndExitPhasesOfPaper004TableA1) {
   const cutting::MillingForceModel model(
       cutter, edge_only, {1000.0 * 2.0 * kPi / 60.0, 0.12e-3, ap, ae, MillingDirection::up}, 4000);
   const double lag = ap * std::tan(kPi / 3.0) / radius;  // 16.5°
-  const double exit = std::acos(1.0 - ae / radius);       // 48.2°
+  const double exit = std::acos(1.0 - ae / radius);      // 48.2°
   ASSERT_LT(lag, exit);
   auto engaged_length = [&](double rotation) {
     return model.at(rotation).torque_nm / (1000.0 * radius);
@@ -192,8 +192,8 @@ TEST(InstantaneousForce, RunoutChipThicknessAndToothSkipping) {
     spec.runout = {offset, 0.0};
     const tool::Tool cutter(spec);
     const cutting::LinearLaw shear_only{1000e6, 0.0, 0.0, 0.0, 0.0, 0.0};
-    const cutting::MillingForceModel model(
-        cutter, shear_only, {1000.0, fz, ap, 10e-3, MillingDirection::down}, 1);
+    const cutting::MillingForceModel model(cutter, shear_only,
+                                           {1000.0, fz, ap, 10e-3, MillingDirection::down}, 1);
     const double r0 = cutter.edge_radius_with_runout_m(0, 0.0);
     const double r1 = cutter.edge_radius_with_runout_m(1, 0.0);
     const double expected_tooth0 = std::min(fz + (r0 - r1), 2.0 * fz);
@@ -215,8 +215,8 @@ TEST(InstantaneousForce, BallEndAxialForceFromNormalComponents) {
   const tool::Tool cutter(spec);
   const cutting::LinearLaw radial_only{1e-9, 1000e6, 0.0, 0.0, 0.0, 0.0};
   const double ap = 1e-3;  // one element, centred at half the arc (κ = acos(0.75)/2)
-  const cutting::MillingForceModel model(
-      cutter, radial_only, {1000.0, 0.1e-3, ap, 8e-3, MillingDirection::down}, 1);
+  const cutting::MillingForceModel model(cutter, radial_only,
+                                         {1000.0, 0.1e-3, ap, 8e-3, MillingDirection::down}, 1);
   ASSERT_EQ(model.elements().size(), 1u);
   const double kappa = model.elements()[0].kappa_rad;
   EXPECT_NEAR(kappa, 0.5 * std::acos(0.75), 1e-12);
@@ -228,7 +228,8 @@ TEST(InstantaneousForce, BallEndAxialForceFromNormalComponents) {
 
 TEST(ForceSampling, ResultsDoNotDependOnThreadCount) {
   const tool::Tool cutter = flat_tool(3, 45.0);
-  const cutting::MillingForceModel model(cutter, kAl7075, process(4e-3, MillingDirection::down), 50);
+  const cutting::MillingForceModel model(cutter, kAl7075, process(4e-3, MillingDirection::down),
+                                         50);
   const auto one = cutting::sample_forces(model, {2, 100}, 1);
   const auto two = cutting::sample_forces(model, {2, 100}, 2);
   ASSERT_EQ(one.size(), 600u);

@@ -39,24 +39,27 @@ TEST(Paper004, Figure6ForceFundamentalIsTheToothPassingFrequency) {
     for (std::size_t k = 1; k < n / 2; ++k) {
       std::complex<double> sum = 0.0;
       for (std::size_t i = 0; i < n; ++i) {
-        sum += series.force_n[i][axis] * std::polar(1.0, -2.0 * kPi * static_cast<double>(k * i) /
-                                                              static_cast<double>(n));
+        sum += series.force_n[i][axis] *
+               std::polar(1.0, -2.0 * kPi * static_cast<double>(k * i) / static_cast<double>(n));
       }
       amplitude[k] = 2.0 * std::abs(sum) / static_cast<double>(n);
     }
     std::size_t dominant = 1;
     for (std::size_t k = 1; k < n / 2; ++k) {
-      if (amplitude[k] > amplitude[dominant]) dominant = k;
+      if (amplitude[k] > amplitude[dominant])
+        dominant = k;
     }
     const double dominant_hz = static_cast<double>(dominant) / duration_s;
-    EXPECT_NEAR(dominant_hz, 1000.0 / 60.0 * 2.0, 1e-9) << "axis " << "xy"[axis];
+    EXPECT_NEAR(dominant_hz, 1000.0 / 60.0 * 2.0, 1e-9) << "axis "
+                                                        << "xy"[axis];
     for (std::size_t k = 1; k < n / 2; ++k) {
       if (k % 4 != 0) {
         EXPECT_LT(amplitude[k], 1e-9 * amplitude[dominant]) << "bin " << k;
       }
     }
-    std::cout << "[validation] 004 Fig 6, F" << "xy"[axis] << ": fundamental " << dominant_hz
-              << " Hz (paper 33.33 Hz), amplitude " << amplitude[dominant] << " N\n";
+    std::cout << "[validation] 004 Fig 6, F"
+              << "xy"[axis] << ": fundamental " << dominant_hz << " Hz (paper 33.33 Hz), amplitude "
+              << amplitude[dominant] << " N\n";
   }
 }
 

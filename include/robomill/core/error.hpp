@@ -31,8 +31,10 @@ class InputError : public Error {
  private:
   static std::string format(const std::string& field, int line, const std::string& message) {
     std::string text = field;
-    if (line > 0) text += " (line " + std::to_string(line) + ")";
-    if (!text.empty()) text += ": ";
+    if (line > 0)
+      text += " (line " + std::to_string(line) + ")";
+    if (!text.empty())
+      text += ": ";
     return text + message;
   }
 

@@ -15,7 +15,8 @@ namespace robomill::core {
 /// Number of worker threads for a request: `requested` if positive, else the
 /// hardware concurrency (at least 1).
 inline int resolve_thread_count(int requested) noexcept {
-  if (requested > 0) return requested;
+  if (requested > 0)
+    return requested;
   const unsigned hardware = std::thread::hardware_concurrency();
   return hardware == 0 ? 1 : static_cast<int>(hardware);
 }
@@ -28,7 +29,8 @@ void parallel_for(std::size_t count, int threads, Body&& body) {
   const std::size_t workers =
       std::min<std::size_t>(static_cast<std::size_t>(resolve_thread_count(threads)), count);
   if (workers <= 1) {
-    for (std::size_t i = 0; i < count; ++i) body(i);
+    for (std::size_t i = 0; i < count; ++i)
+      body(i);
     return;
   }
   std::exception_ptr failure;
@@ -40,15 +42,19 @@ void parallel_for(std::size_t count, int threads, Body&& body) {
     const std::size_t end = count * (w + 1) / workers;
     pool.emplace_back([&, begin, end] {
       try {
-        for (std::size_t i = begin; i < end; ++i) body(i);
+        for (std::size_t i = begin; i < end; ++i)
+          body(i);
       } catch (...) {
         const std::lock_guard lock(failure_mutex);
-        if (!failure) failure = std::current_exception();
+        if (!failure)
+          failure = std::current_exception();
       }
     });
   }
-  for (std::thread& worker : pool) worker.join();
-  if (failure) std::rethrow_exception(failure);
+  for (std::thread& worker : pool)
+    worker.join();
+  if (failure)
+    std::rethrow_exception(failure);
 }
 
 }  // namespace robomill::core

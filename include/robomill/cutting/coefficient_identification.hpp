@@ -26,8 +26,8 @@ struct CoefficientFit {
   /// One standard error per coefficient, in the order Ktc Krc Kac Kte Kre Kae
   /// (SI), from the residual variance; zero when the fit has no redundancy.
   Eigen::Matrix<double, 6, 1> standard_error = Eigen::Matrix<double, 6, 1>::Zero();
-  double rms_residual_n = 0.0;   ///< over all force components of all tests
-  double r_squared = 0.0;        ///< 1 − SS_res / SS_tot over all components
+  double rms_residual_n = 0.0;            ///< over all force components of all tests
+  double r_squared = 0.0;                 ///< 1 − SS_res / SS_tot over all components
   std::vector<Eigen::Vector3d> fitted_n;  ///< model mean force per measurement
 };
 

@@ -14,7 +14,7 @@ namespace robomill::cutting {
 /// Linear mechanistic law with shear and edge coefficients (000 Eq 13,
 /// 001 Eq 12, 002 Eq 24):  F_q = (K_qc h + K_qe) b  for q ∈ {t, r, a}.
 struct LinearLaw {
-  double Ktc_pa = 0.0, Krc_pa = 0.0, Kac_pa = 0.0;        ///< shear coefficients, N/m²
+  double Ktc_pa = 0.0, Krc_pa = 0.0, Kac_pa = 0.0;                 ///< shear coefficients, N/m²
   double Kte_n_per_m = 0.0, Kre_n_per_m = 0.0, Kae_n_per_m = 0.0;  ///< edge coefficients, N/m
 };
 
@@ -24,10 +24,10 @@ struct LinearLaw {
 /// at h = h_ref), which keeps kF in plain N/m whatever m is.
 struct ExponentialLaw {
   double kF_n_per_m = 0.0;
-  double exponent = 1.0;          ///< m < 1 for real materials
+  double exponent = 1.0;  ///< m < 1 for real materials
   double reference_chip_m = 1e-3;
-  double radial_ratio = 0.0;      ///< kr
-  double axial_ratio = 0.0;       ///< ka
+  double radial_ratio = 0.0;  ///< kr
+  double axial_ratio = 0.0;   ///< ka
 };
 
 /// Fractional law (002 Eq 26) with the radial ratio of 002 Eq 28:
@@ -80,7 +80,8 @@ class ResolvedLaw {
   /// Force on an element cutting a chip of thickness `chip_m` and width
   /// `width_m`; zero for chip_m ≤ 0.
   EdgeForce operator()(double chip_m, double width_m) const noexcept {
-    if (!(chip_m > 0.0)) return {};
+    if (!(chip_m > 0.0))
+      return {};
     switch (kind_) {
       case Kind::linear:
         return {(linear_.Ktc_pa * chip_m + linear_.Kte_n_per_m) * width_m,

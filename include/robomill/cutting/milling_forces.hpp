@@ -52,11 +52,11 @@ class MillingForceModel {
   double tooth_period_s() const noexcept;
 
  private:
-  struct ElementTooth {  // one (element, tooth) pair, precomputed
+  struct ElementTooth {       // one (element, tooth) pair, precomputed
     double angle_offset_rad;  // φp_j − ψ_k
     double entry_rad, exit_rad;
-    double lever_m;           // radius for the torque, with runout
-    int min_offset_index;     // into radius_steps_: N entries (i = 1..N)
+    double lever_m;        // radius for the torque, with runout
+    int min_offset_index;  // into radius_steps_: N entries (i = 1..N)
   };
 
   tool::Tool tool_;
@@ -65,8 +65,8 @@ class MillingForceModel {
   Engagement nominal_engagement_;
   double mean_chip_m_ = 0.0;
   std::vector<tool::EdgeElement> elements_;
-  std::vector<ElementTooth> pairs_;        // element-major
-  std::vector<double> radius_steps_m_;     // r_j − r_{j−i}
+  std::vector<ElementTooth> pairs_;     // element-major
+  std::vector<double> radius_steps_m_;  // r_j − r_{j−i}
   std::vector<double> element_sin_kappa_, element_cos_kappa_;
 };
 

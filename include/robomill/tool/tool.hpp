@@ -26,9 +26,9 @@ struct ToolSpec {
   ToolType type = ToolType::flat;
   double diameter_m = 0.0;
   int teeth = 0;
-  double helix_rad = 0.0;             ///< helix angle β (001: β0 at the ball–shank boundary)
-  double overhang_m = 0.0;            ///< length from holder to tip (cantilever length, 000 Eq 1)
-  double youngs_modulus_pa = 600e9;   ///< cemented carbide by default
+  double helix_rad = 0.0;            ///< helix angle β (001: β0 at the ball–shank boundary)
+  double overhang_m = 0.0;           ///< length from holder to tip (cantilever length, 000 Eq 1)
+  double youngs_modulus_pa = 600e9;  ///< cemented carbide by default
   Runout runout;
 };
 
@@ -78,12 +78,12 @@ class Tool {
 /// One axial slice of the engaged edge (the "element" of 000 Eq 10-11 and of
 /// the axial integration in 004 Appendix A).
 struct EdgeElement {
-  double height_m = 0.0;         ///< centre height above the tip
-  double axial_length_m = 0.0;   ///< dz
-  double chip_width_m = 0.0;     ///< db = dz / sin κ, the edge length projected on the cut
-  double radius_m = 0.0;         ///< edge radius at the centre (no runout)
-  double kappa_rad = 0.0;        ///< axial immersion angle κ
-  double lag_rad = 0.0;          ///< helix lag ψ
+  double height_m = 0.0;        ///< centre height above the tip
+  double axial_length_m = 0.0;  ///< dz
+  double chip_width_m = 0.0;    ///< db = dz / sin κ, the edge length projected on the cut
+  double radius_m = 0.0;        ///< edge radius at the centre (no runout)
+  double kappa_rad = 0.0;       ///< axial immersion angle κ
+  double lag_rad = 0.0;         ///< helix lag ψ
 };
 
 /// Splits the edge from the tip up to `axial_depth_m` into about `count`

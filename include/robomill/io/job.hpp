@@ -1,0 +1,87 @@
+#pragma once
+// A job: one robot cell and one question (DESIGN.md §3), validated and in SI.
+// The numerical core never sees the YAML; it sees these values.
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "robomill/cutting/cutting_law.hpp"
+#include "robomill/cutting/process.hpp"
+#include "robomill/tool/tool.hpp"
+
+namespace robomill::io {
+
+/// `forces:` section — how `robomill forces` samples the force history.
+struct ForcesSettings {
+  int revolutions = 1;
+  int steps_per_tooth = 90;
+  int axial_elements = 0;  ///< 0: chosen so that each element spans ≤ 1° of helix lag
+};
+
+/// One structural mode in a modal table (`dynamics.modes`, 000 Table 2, 003 Tab. 1).
+struct ModeSpec {
+  char direction = 'x';  ///< 'x', 'y' or 'z' (tool frame)
+  double natural_frequency_hz = 0.0;
+  double damping_ratio = 0.0;
+  double stiffness_n_per_m = 0.0;  ///< modal stiffness; derived from m when m is given
+  double mass_kg = 0.0;            ///< modal mass; derived from k when k is given
+};
+
+/// One cutting test with its observed outcome (`experiments:`).
+struct Experiment {
+  double spindle_rad_s = 0.0;
+  double axial_depth_m = 0.0;
+  bool chatter = false;
+};
+
+struct OutputSettings {
+  std::string dir;  ///< empty: the command's default (out/<command>)
+  bool csv = true, json = true, html = true;
+};
+
+struct Job {
+  std::filesystem::path source;  ///< the job file ("" for text jobs)
+  std::string name;              ///< `name:` (optional), for reports
+  std::optional<tool::ToolSpec> tool;
+  std::optional<cutting::CuttingLaw> cutting;
+  std::optional<cutting::MillingProcess> process;
+  ForcesSettings forces;
+  std::vector<ModeSpec> modes;
+  std::vector<Experiment> experiments;
+  OutputSettings output;
+
+  /// Resolves a path written in the job relative to the job file's folder.
+  std::filesystem::path resolve(const std::filesystem::path& relative) const;
+};
+
+/// `--set key.path=value`: replaces (or adds) one field before validation.
+/// The value is read as YAML, so lists and quoted quantities work:
+/// `--set process.ae="2 mm"`, `--set forces.revolutions=3`.
+struct Override {
+  std::string path;
+  std::string value;
+};
+
+/// Parses `key.path=value`; throws InputError naming `--set` when malformed.
+Override parse_override(std::string_view assignment);
+
+/// Reads, overrides and validates a job file. Every problem becomes an
+/// InputError naming the field path and its line (YAML syntax errors, unknown
+/// keys, wrong types, unknown or mismatched units, out-of-range or non-finite
+/// values, cross-field inconsistencies such as ae > tool diameter).
+Job load_job(const std::filesystem::path& file, const std::vector<Override>& overrides = {});
+
+/// The same from text; `source_name` is used in messages and to resolve paths.
+/// Texts over 1 MiB, nested deeper than 64 levels, or holding more than one
+/// YAML document are rejected before or instead of being handed to yaml-cpp
+/// (see fuzz/README.md for why).
+Job parse_job(std::string_view yaml_text, const std::filesystem::path& source_name,
+              const std::vector<Override>& overrides = {});
+
+/// Sections a command needs; throws InputError naming the first missing one.
+enum class Section { tool, cutting, process, modes };
+void require(const Job& job, std::initializer_list<Section> sections);
+
+}  // namespace robomill::io

@@ -1,0 +1,136 @@
+// Job helpers that do not touch YAML: file loading, --set syntax, path
+// resolution and section requirements. The parser itself is job_parser.cpp.
+
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <system_error>
+
+#include "robomill/core/error.hpp"
+#include "robomill/io/job.hpp"
+
+namespace robomill::io {
+namespace {
+
+std::string_view trim(std::string_view text) {
+  while (!text.empty() && (text.front() == ' ' || text.front() == '\t'))
+    text.remove_prefix(1);
+  while (!text.empty() && (text.back() == ' ' || text.back() == '\t'))
+    text.remove_suffix(1);
+  return text;
+}
+
+bool is_key_char(char c) {
+  return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
+}
+
+bool valid_override_path(std::string_view path) {
+  // Dotted names of [A-Za-z0-9_], each optionally followed by [index]s:
+  // process.ae, dynamics.modes[0].fn.
+  bool expect_name = true;
+  std::size_t i = 0;
+  while (i < path.size()) {
+    const std::size_t start = i;
+    while (i < path.size() && is_key_char(path[i]))
+      ++i;
+    if (i == start)
+      return false;
+    expect_name = false;
+    while (i < path.size() && path[i] == '[') {
+      const std::size_t digits = ++i;
+      while (i < path.size() && path[i] >= '0' && path[i] <= '9')
+        ++i;
+      if (i == digits || i - digits > 6 || i >= path.size() || path[i] != ']')
+        return false;
+      ++i;
+    }
+    if (i == path.size())
+      break;
+    if (path[i] != '.')
+      return false;
+    ++i;
+    expect_name = true;
+  }
+  return !expect_name;
+}
+
+}  // namespace
+
+std::filesystem::path Job::resolve(const std::filesystem::path& relative) const {
+  if (relative.is_absolute())
+    return relative;
+  return source.parent_path() / relative;
+}
+
+Override parse_override(std::string_view assignment) {
+  const std::size_t equals = assignment.find('=');
+  if (equals == std::string_view::npos) {
+    throw InputError("--set", 0,
+                     "expected key.path=value (e.g. --set process.ae=\"2 mm\"), got '" +
+                         std::string(assignment) + "'");
+  }
+  const std::string_view path = trim(assignment.substr(0, equals));
+  const std::string_view value = trim(assignment.substr(equals + 1));
+  if (!valid_override_path(path)) {
+    throw InputError("--set", 0,
+                     "invalid key path '" + std::string(path) +
+                         "'; expected dotted names of letters, digits and '_', such as "
+                         "process.ae or dynamics.modes[0].fn");
+  }
+  if (value.empty()) {
+    throw InputError("--set", 0, "missing value after '=' in '" + std::string(assignment) + "'");
+  }
+  return Override{std::string(path), std::string(value)};
+}
+
+Job load_job(const std::filesystem::path& file, const std::vector<Override>& overrides) {
+  std::error_code error;
+  if (!std::filesystem::exists(file, error)) {
+    throw InputError(file.string(), 0, "job file not found");
+  }
+  if (std::filesystem::is_directory(file, error)) {
+    throw InputError(file.string(), 0, "is a directory, not a job file");
+  }
+  std::ifstream in(file, std::ios::binary);
+  if (!in)
+    throw InputError(file.string(), 0, "cannot open job file for reading");
+  // Read at most one byte more than parse_job accepts, so that pointing the
+  // tool at a huge file (or a device) fails fast instead of exhausting memory.
+  constexpr std::size_t kLimit = (1u << 20) + 1;
+  std::string text;
+  char buffer[65536];
+  while (text.size() < kLimit && in.read(buffer, sizeof buffer).gcount() > 0) {
+    text.append(buffer, static_cast<std::size_t>(in.gcount()));
+  }
+  if (in.bad())
+    throw InputError(file.string(), 0, "error while reading the job file");
+  return parse_job(text, file, overrides);
+}
+
+void require(const Job& job, std::initializer_list<Section> sections) {
+  for (const Section section : sections) {
+    switch (section) {
+      case Section::tool:
+        if (!job.tool)
+          throw InputError("tool", 0, "section required by this command is missing");
+        break;
+      case Section::cutting:
+        if (!job.cutting) {
+          throw InputError("cutting", 0, "section required by this command is missing");
+        }
+        break;
+      case Section::process:
+        if (!job.process) {
+          throw InputError("process", 0, "section required by this command is missing");
+        }
+        break;
+      case Section::modes:
+        if (job.modes.empty()) {
+          throw InputError("dynamics.modes", 0, "section required by this command is missing");
+        }
+        break;
+    }
+  }
+}
+
+}  // namespace robomill::io
