@@ -7,16 +7,13 @@
 #include <stdexcept>
 
 #include "robomill/core/error.hpp"
+#include "text.hpp"
 
 namespace robomill::io {
 namespace {
 
-std::string trim(const std::string& text) {
-  const auto first = text.find_first_not_of(" \t\r");
-  if (first == std::string::npos)
-    return {};
-  const auto last = text.find_last_not_of(" \t\r");
-  return text.substr(first, last - first + 1);
+std::string trim(const std::string& line) {
+  return std::string(text::trim(line));
 }
 
 std::vector<std::string> split(const std::string& line) {

@@ -21,19 +21,14 @@
 #include "robomill/core/error.hpp"
 #include "robomill/io/job.hpp"
 #include "robomill/io/units.hpp"
+#include "text.hpp"
 #include "yaml_reader.hpp"
 
 namespace robomill::io {
 namespace detail {
 namespace {
 
-std::string_view trim(std::string_view text) {
-  while (!text.empty() && (text.front() == ' ' || text.front() == '\t'))
-    text.remove_prefix(1);
-  while (!text.empty() && (text.back() == ' ' || text.back() == '\t'))
-    text.remove_suffix(1);
-  return text;
-}
+using text::trim;
 
 std::string quote_text(std::string_view text) {
   // Values from a fuzzer or a binary file can be long; keep messages readable.

@@ -1,5 +1,7 @@
 #include "robomill/io/units.hpp"
 
+#include "text.hpp"
+
 #include <array>
 #include <charconv>
 #include <cmath>
@@ -100,13 +102,7 @@ bool is_digit(char c) {
   return c >= '0' && c <= '9';
 }
 
-std::string_view trim(std::string_view text) {
-  while (!text.empty() && is_blank(text.front()))
-    text.remove_prefix(1);
-  while (!text.empty() && is_blank(text.back()))
-    text.remove_suffix(1);
-  return text;
-}
+using text::trim;
 
 // Length of the leading decimal number ([+-]digits[.digits][e[+-]digits]),
 // 0 when the text does not start with one. Written by hand instead of relying
