@@ -914,7 +914,7 @@ std::optional<cutting::MillingProcess> read_process(SectionReader& root,
   return process;
 }
 
-ForcesSettings read_forces(SectionReader& root) {
+ForcesSettings read_forces(SectionReader& root, const std::optional<tool::ToolSpec>& tool) {
   ForcesSettings forces;
   auto section = root.section("forces");
   if (!section)
@@ -925,6 +925,17 @@ ForcesSettings read_forces(SectionReader& root) {
   forces.steps_per_tooth = r.integer_or("steps_per_tooth", 4, 100000, forces.steps_per_tooth);
   // 0 (automatic) is the default and cannot be written: an explicit value is a count.
   forces.axial_elements = r.integer_or("axial_elements", 1, 10000, 0);
+  // Each sample holds ~50 bytes; cap the history at 20 million samples (1 GB)
+  // so a typo cannot exhaust memory.
+  constexpr double kMaxSamples = 20e6;
+  const double samples =
+      static_cast<double>(forces.revolutions) * forces.steps_per_tooth * (tool ? tool->teeth : 1);
+  if (samples > kMaxSamples) {
+    r.fail(r.has("steps_per_tooth") ? "steps_per_tooth" : "revolutions",
+           "revolutions x teeth x steps_per_tooth = " +
+               std::to_string(static_cast<long long>(samples)) +
+               " samples exceeds the limit of 20000000");
+  }
   r.finish();
   return forces;
 }
@@ -1085,7 +1096,7 @@ Job read_job(const YAML::Node& root_node, const std::filesystem::path& source,
   job.tool = read_tool(root);
   job.cutting = read_cutting(root);
   job.process = read_process(root, job.tool);
-  job.forces = read_forces(root);
+  job.forces = read_forces(root, job.tool);
   job.modes = read_dynamics(root);
   job.experiments = read_experiments(root);
   job.output = read_output(root);
