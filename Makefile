@@ -22,7 +22,8 @@ demo: build
 	./$(BUILD)/robomill forces examples/demo.yaml --out out/demo
 	@echo "demo: results in out/demo (forces.csv, summary.json)"
 
-test: test-release test-sanitize fuzz
+# The fuzz run comes before the sanitizer tests so that ctest's summary closes the output.
+test: test-release fuzz test-sanitize
 
 test-release: build
 	cd $(BUILD) && ctest --output-on-failure -j$(JOBS)
@@ -41,9 +42,12 @@ fuzz: setup
 	  -DROBOMILL_BUILD_FUZZ=ON -DROBOMILL_BUILD_TESTS=OFF -DROBOMILL_BUILD_BENCH=OFF
 	cmake --build $(FUZZ_BUILD) --target fuzz_job_parser -j$(JOBS)
 	mkdir -p $(FUZZ_BUILD)/corpus-run
-	./$(FUZZ_BUILD)/fuzz/fuzz_job_parser -dict=fuzz/job.dict -max_total_time=$(FUZZ_SECONDS) \
+	@echo "fuzz: job parser for $(FUZZ_SECONDS) s (log: $(FUZZ_BUILD)/fuzz.log)"
+	@./$(FUZZ_BUILD)/fuzz/fuzz_job_parser -dict=fuzz/job.dict -max_total_time=$(FUZZ_SECONDS) \
 	  -timeout=10 -print_final_stats=1 -artifact_prefix=$(FUZZ_BUILD)/ \
-	  $(FUZZ_BUILD)/corpus-run fuzz/corpus
+	  $(FUZZ_BUILD)/corpus-run fuzz/corpus > $(FUZZ_BUILD)/fuzz.log 2>&1 \
+	  || { tail -40 $(FUZZ_BUILD)/fuzz.log; echo "fuzz: FAILED (crash, leak or hang; reproducer in $(FUZZ_BUILD)/)"; exit 1; }
+	@grep -E '^(Done|stat::number_of_executed_units|stat::peak_rss_mb)' $(FUZZ_BUILD)/fuzz.log
 
 bench: build
 	for b in $(BUILD)/bench/bench_*; do $$b --benchmark_min_time=0.2; done
