@@ -36,6 +36,29 @@ struct Experiment {
   bool chatter = false;
 };
 
+/// `stability:` section — how `robomill stability` computes the lobes.
+struct StabilitySettings {
+  enum class Method { zoa, sdm, fdm, fdm2 };
+  enum class Mode { boundary, map };
+  enum class Modes { coupled, envelope, both };  ///< all modes together, and/or 003's envelope
+  Method method = Method::fdm;
+  Mode mode = Mode::boundary;
+  Modes modes = Modes::coupled;
+  double speed_from_rad_s = 0.0, speed_to_rad_s = 0.0;  ///< `speeds: {from, to, count}` (rpm)
+  int speed_count = 0;
+  double depth_max_m = 0.0;       ///< `depth_max` (mm): upper end of the depth search / map
+  int depth_count = 100;          ///< `depths`: map rows (map mode)
+  double depth_tolerance = 1e-3;  ///< `depth_tolerance`: relative precision of each limit
+  int discretization = 40;        ///< `discretization`: steps per tooth period (SDM/FDM)
+  /// `process_damping: {model: linear_equivalent|energy_balance, Ksp, wear_land, mu}`
+  /// (000 Eq 18-19; 003 §3.1). Ksp in N/m^3, wear_land in um, mu dimensionless.
+  enum class Damping { none, linear_equivalent, energy_balance };
+  Damping process_damping = Damping::none;
+  double indentation_n_per_m3 = 0.0;
+  double wear_land_m = 0.0;
+  double friction = 0.0;
+};
+
 struct OutputSettings {
   std::string dir;  ///< empty: the command's default (out/<command>)
   bool csv = true, json = true, html = true;
@@ -48,6 +71,7 @@ struct Job {
   std::optional<cutting::CuttingLaw> cutting;
   std::optional<cutting::MillingProcess> process;
   ForcesSettings forces;
+  std::optional<StabilitySettings> stability;
   std::vector<ModeSpec> modes;
   std::vector<Experiment> experiments;
   OutputSettings output;
@@ -81,7 +105,7 @@ Job parse_job(std::string_view yaml_text, const std::filesystem::path& source_na
               const std::vector<Override>& overrides = {});
 
 /// Sections a command needs; throws InputError naming the first missing one.
-enum class Section { tool, cutting, process, modes };
+enum class Section { tool, cutting, process, modes, stability };
 void require(const Job& job, std::initializer_list<Section> sections);
 
 }  // namespace robomill::io

@@ -1,0 +1,94 @@
+#pragma once
+// Time-domain stability of the regenerative delay model by discretizing one
+// tooth period into m steps and building the Floquet transition (monodromy)
+// matrix of the augmented state; the cut is stable when every characteristic
+// multiplier lies inside the unit circle.
+//
+// State x = (η, η') of the n modal coordinates; with h = τ/m and A0 the
+// constant modal dynamics [[0, I], [−Ω², −2ζΩ]], the periodic part
+// A(t) x = [0; P(t) η − Cp(t) η'] and the delayed part B(t) η(t − τ) = [0; −P(t) η(t − τ)]:
+//  * SDM  — first-order semi-discretization (Insperger & Stépán 2004): on each
+//           step A(t) is replaced by its mean and solved exactly (matrix
+//           exponential of A0 + Ā_k); the delayed state is interpolated
+//           linearly between η_{k−m} and η_{k−m+1}.
+//  * FDM  — first-order full-discretization (Ding et al. 2010): the constant
+//           part is solved exactly; A(t)x(t) and B(t)η(t−τ) are interpolated
+//           linearly between the step's nodes.
+//  * FDM2 — second-order full-discretization (Ding et al. 2010): A(t)x(t) is
+//           interpolated by the Lagrange parabola through nodes k−1, k, k+1.
+// Only positions are delayed, so the augmented state holds x_k (2n), for FDM2
+// also x_{k−1}, and the m delayed positions η_{k−1} … η_{k−m}. The monodromy
+// matrix is assembled block row by block row: each step computes only the new
+// state's rows and shifts the history by index (no multiplication of the
+// identity blocks of the shift).
+
+#include <Eigen/Core>
+#include <Eigen/Eigenvalues>
+#include <complex>
+
+#include "robomill/stability/regenerative_model.hpp"
+
+namespace robomill::stability {
+
+enum class FloquetMethod { sdm, fdm, fdm2 };
+
+struct FloquetResult {
+  double spectral_radius = 0.0;
+  std::complex<double> critical_multiplier;  ///< the multiplier of largest modulus
+};
+
+/// Modal dynamics of the structure: ωn and ζ per mode, plus optional constant
+/// extra viscous damping in modal coordinates (process damping, n x n).
+struct ModalDynamics {
+  Eigen::VectorXd natural_rad_s;
+  Eigen::VectorXd damping_ratio;
+};
+
+/// A reusable workspace for one thread: sized once for n modes and m steps.
+class FloquetSolver {
+ public:
+  FloquetSolver(FloquetMethod method, const ModalDynamics& dynamics, int steps);
+
+  /// Prepares the step integrals for a tooth period τ (call once per speed).
+  void set_delay(double delay_s);
+
+  /// Spectral radius of the monodromy matrix for coupling samples scaled by
+  /// `scale` (the depth, when the samples are per unit depth). `damping`
+  /// (optional) holds Cp(t) samples in the same layout as `coupling`.
+  FloquetResult solve(const CouplingSamples& coupling, double scale,
+                      const CouplingSamples* damping = nullptr);
+
+  int state_size() const noexcept { return state_size_; }
+  FloquetMethod method() const noexcept { return method_; }
+
+ private:
+  void sdm_step_matrices(const Eigen::MatrixXd& mean_coupling, const Eigen::MatrixXd* mean_damping,
+                         double scale);
+
+  FloquetMethod method_;
+  int modes_;
+  int steps_;
+  int state_size_;
+  double delay_s_ = 0.0;
+  Eigen::MatrixXd a0_;
+  // FDM integrals ∫0^h e^{A0(h−s)} L(s) ds for the interpolation weights.
+  Eigen::MatrixXd phi0_, phi_prev_, phi_now_, phi_next_;  // e^{A0 h}, weights of nodes k−1, k, k+1
+  Eigen::MatrixXd delay_now_, delay_next_;                // linear weights for the delayed term
+  // Workspace.
+  Eigen::MatrixXd monodromy_, rows_x_, rows_x_prev_, new_rows_, lhs_, rhs_block_;
+  Eigen::MatrixXd sdm_exp_, sdm_delay_a_, sdm_delay_b_;
+  Eigen::MatrixXd psi_;                        // the monodromy matrix in logical order
+  Eigen::EigenSolver<Eigen::MatrixXd> eigen_;  // preallocated for state_size_
+};
+
+/// Chatter frequency from a critical multiplier μ: f = (arg μ/2π + k)/τ, with
+/// the integer k that puts f where the structure is most flexible (largest
+/// receptance), since chatter grows near a mode.
+double chatter_frequency_hz(std::complex<double> multiplier, double delay_s,
+                            const dynamics::ModalModel& modes);
+
+/// "flip" (period doubling) for a real negative critical multiplier, "hopf"
+/// otherwise (a complex pair: secondary Hopf / Neimark–Sacker).
+const char* bifurcation_name(std::complex<double> multiplier) noexcept;
+
+}  // namespace robomill::stability

@@ -1,0 +1,56 @@
+#pragma once
+// Stability lobe diagrams from the time-domain methods (floquet.hpp): the
+// limiting axial depth at each spindle speed (boundary mode) or the spectral
+// radius over a speed x depth grid (map mode). Speeds are independent work
+// items and run in parallel, one Floquet workspace per thread.
+
+#include <string>
+#include <vector>
+
+#include "robomill/stability/floquet.hpp"
+#include "robomill/stability/regenerative_model.hpp"
+
+namespace robomill::stability {
+
+struct LobeOptions {
+  FloquetMethod method = FloquetMethod::fdm;
+  int steps = 40;                  ///< discretization: steps per tooth period
+  double depth_max_m = 0.0;        ///< search range (0, depth_max]
+  double depth_tolerance = 1e-3;   ///< relative width of the final bracket
+  int coarse_points = 24;          ///< scan points before refinement (finds islands ≥ depth_max/24)
+  int threads = 0;                 ///< 0: all cores
+};
+
+/// One point of the stability boundary.
+struct LobePoint {
+  double spindle_rad_s = 0.0;
+  /// Smallest unstable depth (to the tolerance), or depth_max when the cut is
+  /// stable over the whole search range (`limited` false).
+  double depth_limit_m = 0.0;
+  bool limited = false;
+  double chatter_frequency_hz = 0.0;  ///< 0 when not limited
+  std::string bifurcation = "none";   ///< "hopf", "flip" (period doubling), "fold" or "none"
+  int evaluations = 0;                ///< Floquet solves spent on this speed
+};
+
+/// The limiting depth at each speed: a coarse scan of the spectral radius over
+/// (0, depth_max] finds the first unstable depth, then bisection narrows the
+/// bracket to `depth_tolerance`. Results are in the order of `spindle_rad_s`
+/// and do not depend on the thread count.
+std::vector<LobePoint> stability_boundary(const RegenerativeModel& model,
+                                          const std::vector<double>& spindle_rad_s,
+                                          const LobeOptions& options);
+
+/// Spectral radius at every (speed, depth): row i is speed i, column j depth j.
+struct StabilityMap {
+  std::vector<double> spindle_rad_s;
+  std::vector<double> depth_m;
+  Eigen::MatrixXd spectral_radius;
+};
+StabilityMap stability_map(const RegenerativeModel& model, const std::vector<double>& spindle_rad_s,
+                           const std::vector<double>& depth_m, const LobeOptions& options);
+
+/// `count` speeds evenly spaced over [from, to] (one speed when count is 1).
+std::vector<double> linear_range(double from, double to, int count);
+
+}  // namespace robomill::stability

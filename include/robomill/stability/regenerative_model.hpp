@@ -1,0 +1,68 @@
+#pragma once
+// The linear periodic delay model of regenerative milling (000 Eq 14, 16,
+// 32-38; 001 Eq 14): the dynamic chip h_d = nᵀ (q(t) − q(t − τ)) of every
+// engaged edge element produces the force F_d = W(t) (q(t) − q(t − τ)), with
+//   W(ϕ) = Σ_{j,k} g_{jk} db_k · T(φ_jk, κ_k) [Ktc Krc Kac]ᵀ · n(φ_jk, κ_k)ᵀ,
+// T the projection of 001 Eq 11 and n = (sin κ sin φ, sin κ cos φ, −cos κ).
+// In modal coordinates η (q = Φ η, Φ the mass-normalized shapes) this is
+//   η'' + 2ζΩ η' + Ω² η = P(t) (η(t) − η(t − τ)),   P = Φᵀ W Φ,   τ = 2π/(N Ω_s).
+// W depends on the spindle angle only, so P is sampled once per depth over a
+// tooth period in angle and reused at every spindle speed.
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "robomill/cutting/cutting_law.hpp"
+#include "robomill/cutting/process.hpp"
+#include "robomill/dynamics/modal_model.hpp"
+#include "robomill/tool/tool.hpp"
+
+namespace robomill::stability {
+
+/// P(t) over one tooth period, m steps of h = τ/m: node values at t_k = k h
+/// (k = 0..m; the mean over [t_k − h/2, t_k + h/2]) and the mean over each
+/// step [t_k, t_k+1] (k = 0..m−1).
+struct CouplingSamples {
+  std::vector<Eigen::MatrixXd> nodes;
+  std::vector<Eigen::MatrixXd> means;
+  /// (1/τ) ∫ P dt: what the zero-order approximation uses.
+  Eigen::MatrixXd average;
+};
+
+class RegenerativeModel {
+ public:
+  /// `law` must reduce to a linear law (linear or size-dependent); throws
+  /// std::invalid_argument otherwise. `process.axial_depth_m` is ignored: the
+  /// depth is the variable of every stability query.
+  RegenerativeModel(const tool::Tool& tool, const cutting::CuttingLaw& law,
+                    const cutting::MillingProcess& process, const dynamics::ModalModel& modes);
+
+  /// 3x3 W at spindle angle ϕ for axial depth ap (N/m), before the modal projection.
+  Eigen::Matrix3d cutting_stiffness(double rotation_rad, double axial_depth_m) const;
+
+  /// P sampled over a tooth period with `steps` steps; each step mean is
+  /// integrated with `substeps` midpoint samples so that the entry and exit
+  /// discontinuities are resolved.
+  CouplingSamples sample(double axial_depth_m, int steps, int substeps = 8) const;
+
+  /// True when W is proportional to the depth (straight flutes on a
+  /// cylindrical edge), so samples at 1 m scale to any depth.
+  bool proportional_to_depth() const noexcept { return proportional_; }
+
+  const dynamics::ModalModel& modes() const noexcept { return modes_; }
+  const tool::Tool& tool() const noexcept { return tool_; }
+  const cutting::MillingProcess& process() const noexcept { return process_; }
+  const cutting::LinearLaw& law() const noexcept { return law_; }
+  /// Largest depth the edge discretization covers (the tool overhang).
+  double max_depth_m() const noexcept { return tool_.overhang_m(); }
+
+ private:
+  tool::Tool tool_;
+  cutting::MillingProcess process_;
+  cutting::LinearLaw law_;
+  dynamics::ModalModel modes_;
+  Eigen::Matrix<double, 3, Eigen::Dynamic> shapes_;
+  bool proportional_ = false;
+};
+
+}  // namespace robomill::stability

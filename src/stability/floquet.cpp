@@ -1,0 +1,222 @@
+#include "robomill/stability/floquet.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <unsupported/Eigen/MatrixFunctions>
+
+namespace robomill::stability {
+namespace {
+
+// Van Loan: the exponential of an upper block-triangular generator yields the
+// convolution integrals of e^{A s} with polynomials in s.
+//   exp([[A, I, 0, 0], [0, 0, I, 0], [0, 0, 0, I], [0, 0, 0, 0]] h), top row:
+//   [e^{Ah}, ∫e^{A(h−s)} ds, ∫e^{A(h−s)} s ds, ∫e^{A(h−s)} s²/2 ds].
+void polynomial_integrals(const Eigen::MatrixXd& a, double h, Eigen::MatrixXd& exponential,
+                          Eigen::MatrixXd& f1, Eigen::MatrixXd& f2, Eigen::MatrixXd& f3) {
+  const Eigen::Index d = a.rows();
+  Eigen::MatrixXd generator = Eigen::MatrixXd::Zero(4 * d, 4 * d);
+  generator.topLeftCorner(d, d) = a;
+  for (int b = 0; b < 3; ++b) {
+    generator.block(b * d, (b + 1) * d, d, d) = Eigen::MatrixXd::Identity(d, d);
+  }
+  const Eigen::MatrixXd result = (generator * h).exp();
+  exponential = result.block(0, 0, d, d);
+  f1 = result.block(0, d, d, d);
+  f2 = result.block(0, 2 * d, d, d);
+  f3 = 2.0 * result.block(0, 3 * d, d, d);  // ∫ e^{A(h−s)} s² ds
+}
+
+}  // namespace
+
+FloquetSolver::FloquetSolver(FloquetMethod method, const ModalDynamics& dynamics, int steps)
+    : method_(method), modes_(static_cast<int>(dynamics.natural_rad_s.size())), steps_(steps) {
+  if (modes_ < 1 || dynamics.damping_ratio.size() != modes_) {
+    throw std::invalid_argument("modal dynamics need matching frequencies and damping ratios");
+  }
+  if (steps_ < 1) throw std::invalid_argument("discretization needs at least one step");
+  const int n = modes_;
+  state_size_ = 2 * n + steps_ * n + (method_ == FloquetMethod::fdm2 ? n : 0);
+  a0_ = Eigen::MatrixXd::Zero(2 * n, 2 * n);
+  a0_.topRightCorner(n, n) = Eigen::MatrixXd::Identity(n, n);
+  a0_.bottomLeftCorner(n, n) = (-dynamics.natural_rad_s.array().square()).matrix().asDiagonal();
+  a0_.bottomRightCorner(n, n) =
+      (-2.0 * dynamics.damping_ratio.array() * dynamics.natural_rad_s.array()).matrix().asDiagonal();
+  monodromy_.resize(state_size_, state_size_);
+  psi_.resize(state_size_, state_size_);
+  eigen_ = Eigen::EigenSolver<Eigen::MatrixXd>(state_size_);
+  rows_x_.resize(2 * n, state_size_);
+  rows_x_prev_.resize(n, state_size_);
+  new_rows_.resize(2 * n, state_size_);
+  lhs_.resize(2 * n, 2 * n);
+  rhs_block_.resize(2 * n, 2 * n);
+}
+
+void FloquetSolver::set_delay(double delay_s) {
+  if (!(delay_s > 0.0) || !std::isfinite(delay_s)) throw std::invalid_argument("delay must be positive");
+  delay_s_ = delay_s;
+  const double h = delay_s / steps_;
+  Eigen::MatrixXd f1, f2, f3;
+  polynomial_integrals(a0_, h, phi0_, f1, f2, f3);
+  // Linear interpolation between nodes k (weight 1 − s/h) and k+1 (s/h).
+  delay_now_ = f1 - f2 / h;
+  delay_next_ = f2 / h;
+  if (method_ == FloquetMethod::fdm2) {
+    // Lagrange parabola through s = −h, 0, h (nodes k−1, k, k+1).
+    phi_prev_ = f3 / (h * h) - f2 / (2.0 * h);
+    phi_now_ = f1 - 2.0 * f3 / (h * h);
+    phi_next_ = f3 / (h * h) + f2 / (2.0 * h);
+  } else {
+    phi_prev_.resize(0, 0);
+    phi_now_ = delay_now_;
+    phi_next_ = delay_next_;
+  }
+}
+
+void FloquetSolver::sdm_step_matrices(const Eigen::MatrixXd& mean_coupling,
+                                      const Eigen::MatrixXd* mean_damping, double scale) {
+  // Semi-discretization: exact solution of ẋ = (A0 + Ā_k) x + B̄_k η_lin(t − τ)
+  // on the step, with η_lin linear between η_{k−m} and η_{k−m+1}.
+  const int n = modes_;
+  const double h = delay_s_ / steps_;
+  Eigen::MatrixXd a = a0_;
+  a.bottomLeftCorner(n, n) += scale * mean_coupling;
+  if (mean_damping != nullptr) a.bottomRightCorner(n, n) -= scale * *mean_damping;
+  Eigen::MatrixXd f1, f2, f3;
+  polynomial_integrals(a, h, sdm_exp_, f1, f2, f3);
+  // B̄ = [0; −P̄]: only the right half of the integrals matters.
+  sdm_delay_a_ = -(f1 - f2 / h).rightCols(n) * (scale * mean_coupling);
+  sdm_delay_b_ = -(f2 / h).rightCols(n) * (scale * mean_coupling);
+}
+
+FloquetResult FloquetSolver::solve(const CouplingSamples& coupling, double scale,
+                                   const CouplingSamples* damping) {
+  if (delay_s_ <= 0.0) throw std::logic_error("FloquetSolver::set_delay must be called first");
+  if (static_cast<int>(coupling.means.size()) != steps_ ||
+      static_cast<int>(coupling.nodes.size()) != steps_ + 1) {
+    throw std::invalid_argument("coupling samples do not match the discretization");
+  }
+  const int n = modes_;
+  const int m = steps_;
+  const int history_offset = 2 * n;
+  const int velocity_offset = 2 * n + m * n;  // FDM2 only: η'_{k−1}
+
+  // Initial augmented state = identity: rows_x_ holds x_0, history block j
+  // (logical η_{−1−j}) lives at physical block (head + j) mod m.
+  monodromy_.setIdentity();  // used as the history buffer (rows 2n … 2n + mn)
+  rows_x_ = monodromy_.topRows(2 * n);
+  if (method_ == FloquetMethod::fdm2) rows_x_prev_ = monodromy_.middleRows(velocity_offset, n);
+  int head = 0;
+  auto history_rows = [&](int logical) {
+    const int physical = (head + logical) % m;
+    return monodromy_.middleRows(history_offset + physical * n, n);
+  };
+
+  for (int k = 0; k < m; ++k) {
+    const Eigen::MatrixXd& p_now = coupling.nodes[static_cast<std::size_t>(k)];
+    const Eigen::MatrixXd& p_next = coupling.nodes[static_cast<std::size_t>(k + 1)];
+    // Delayed positions: η_{k−m} (logical m−1) and η_{k+1−m} (logical m−2, or η_k when m = 1).
+    const auto delayed_old = history_rows(m - 1);
+    if (method_ == FloquetMethod::sdm) {
+      const Eigen::MatrixXd* mean_damping =
+          damping ? &damping->means[static_cast<std::size_t>(k)] : nullptr;
+      sdm_step_matrices(coupling.means[static_cast<std::size_t>(k)], mean_damping, scale);
+      new_rows_.noalias() = sdm_exp_ * rows_x_;
+      new_rows_.noalias() += sdm_delay_a_ * delayed_old;
+      if (m > 1) {
+        new_rows_.noalias() += sdm_delay_b_ * history_rows(m - 2);
+      } else {
+        new_rows_.noalias() += sdm_delay_b_ * rows_x_.topRows(n);
+      }
+    } else {
+      // Full discretization: x_{k+1} = Φ0 x_k + Σ_nodes W_i Â_i x_i + delayed terms,
+      // implicit in x_{k+1} through W_next Â_{k+1}.
+      // Â_i x = [0; P_i η − C_i η'], so W Â_i x = W[:, n:] (P_i η − C_i η').
+      rhs_block_ = phi0_;
+      rhs_block_.leftCols(n).noalias() += scale * phi_now_.rightCols(n) * p_now;
+      if (damping) {
+        rhs_block_.rightCols(n).noalias() -=
+            scale * phi_now_.rightCols(n) * damping->nodes[static_cast<std::size_t>(k)];
+      }
+      new_rows_.noalias() = rhs_block_ * rows_x_;
+      if (method_ == FloquetMethod::fdm2) {
+        const int previous = (k + m - 1) % m;  // node k−1, periodic
+        const auto eta_prev = history_rows(0);
+        new_rows_.noalias() += scale * phi_prev_.rightCols(n) *
+                               coupling.nodes[static_cast<std::size_t>(previous)] * eta_prev;
+        if (damping) {
+          new_rows_.noalias() -= scale * phi_prev_.rightCols(n) *
+                                 damping->nodes[static_cast<std::size_t>(previous)] * rows_x_prev_;
+        }
+      }
+      // Delayed term B̂ η = [0; −P η], linear between nodes k and k+1.
+      new_rows_.noalias() -= scale * delay_now_.rightCols(n) * p_now * delayed_old;
+      if (m > 1) {
+        new_rows_.noalias() -= scale * delay_next_.rightCols(n) * p_next * history_rows(m - 2);
+      } else {
+        new_rows_.noalias() -= scale * delay_next_.rightCols(n) * p_next * rows_x_.topRows(n);
+      }
+      lhs_.setIdentity();
+      lhs_.leftCols(n).noalias() -= scale * phi_next_.rightCols(n) * p_next;
+      if (damping) {
+        lhs_.rightCols(n).noalias() +=
+            scale * phi_next_.rightCols(n) * damping->nodes[static_cast<std::size_t>(k + 1)];
+      }
+      new_rows_ = lhs_.partialPivLu().solve(new_rows_);
+    }
+    // Shift: η_k enters the history, η_{k−m} leaves (its block is reused).
+    head = (head + m - 1) % m;
+    history_rows(0) = rows_x_.topRows(n);
+    if (method_ == FloquetMethod::fdm2) rows_x_prev_ = rows_x_.bottomRows(n);
+    rows_x_.swap(new_rows_);
+  }
+
+  // Assemble z_m = Ψ z_0 in logical order.
+  Eigen::MatrixXd& psi = psi_;
+  psi.topRows(2 * n) = rows_x_;
+  for (int j = 0; j < m; ++j) psi.middleRows(history_offset + j * n, n) = history_rows(j);
+  if (method_ == FloquetMethod::fdm2) psi.middleRows(velocity_offset, n) = rows_x_prev_;
+
+  eigen_.compute(psi, /*computeEigenvectors=*/false);
+  FloquetResult result;
+  const auto& values = eigen_.eigenvalues();
+  for (Eigen::Index i = 0; i < values.size(); ++i) {
+    if (std::abs(values[i]) > result.spectral_radius) {
+      result.spectral_radius = std::abs(values[i]);
+      result.critical_multiplier = values[i];
+    }
+  }
+  return result;
+}
+
+double chatter_frequency_hz(std::complex<double> multiplier, double delay_s,
+                            const dynamics::ModalModel& modes) {
+  const double base = std::arg(multiplier) / (2.0 * std::numbers::pi);  // (−0.5, 0.5]
+  const double tooth_hz = 1.0 / delay_s;
+  const double highest = 1.5 * modes.highest_frequency_hz();
+  double best_hz = std::abs(base) * tooth_hz;
+  double best_flexibility = -1.0;
+  for (int k = -1; (k + base) * tooth_hz <= highest || k < 2; ++k) {
+    const double candidate = std::abs((k + base) * tooth_hz);
+    if (candidate <= 0.0) continue;
+    const double flexibility =
+        modes.receptance(2.0 * std::numbers::pi * candidate).cwiseAbs().maxCoeff();
+    if (flexibility > best_flexibility) {
+      best_flexibility = flexibility;
+      best_hz = candidate;
+    }
+  }
+  return best_hz;
+}
+
+const char* bifurcation_name(std::complex<double> multiplier) noexcept {
+  const double modulus = std::abs(multiplier);
+  if (std::abs(multiplier.imag()) <= 1e-6 * modulus) {
+    return multiplier.real() < 0.0 ? "flip" : "fold";
+  }
+  return "hopf";
+}
+
+}  // namespace robomill::stability

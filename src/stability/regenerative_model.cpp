@@ -1,0 +1,115 @@
+#include "robomill/stability/regenerative_model.hpp"
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include "robomill/cutting/engagement.hpp"
+#include "robomill/cutting/milling_forces.hpp"
+
+namespace robomill::stability {
+namespace {
+
+cutting::LinearLaw linearize(const cutting::CuttingLaw& law, const tool::Tool& tool,
+                             const cutting::MillingProcess& process) {
+  const cutting::Engagement engagement = cutting::radial_engagement(
+      tool.radius_m(), tool.radius_m(), process.radial_depth_m, process.direction);
+  const cutting::ResolvedLaw resolved(
+      law, cutting::mean_chip_thickness_m(process.feed_per_tooth_m, engagement));
+  if (!resolved.is_linear()) {
+    throw std::invalid_argument(
+        "stability analysis needs a linear cutting law (linear or size_dependent), got " +
+        std::string(cutting::law_name(law)));
+  }
+  return resolved.linear();
+}
+
+}  // namespace
+
+RegenerativeModel::RegenerativeModel(const tool::Tool& tool, const cutting::CuttingLaw& law,
+                                     const cutting::MillingProcess& process,
+                                     const dynamics::ModalModel& modes)
+    : tool_(tool),
+      process_(process),
+      law_(linearize(law, tool, process)),
+      modes_(modes),
+      shapes_(modes.shape_matrix()),
+      proportional_(tool.type() == tool::ToolType::flat && tool.helix_rad() == 0.0) {
+  if (!(process.radial_depth_m > 0.0) || process.radial_depth_m > tool.diameter_m() * (1 + 1e-12)) {
+    throw std::invalid_argument("radial depth must lie in (0, tool diameter]");
+  }
+}
+
+Eigen::Matrix3d RegenerativeModel::cutting_stiffness(double rotation_rad,
+                                                     double axial_depth_m) const {
+  // Same geometry as the force model (MillingForceModel::at); only the
+  // chip-thickness (shear) coefficients respond to vibration.
+  std::vector<tool::EdgeElement> edge;
+  if (proportional_) {
+    // Straight cylindrical flutes: one element of the whole depth is exact,
+    // and any depth (also the unit depth used for scaling) is allowed.
+    tool::EdgeElement element;
+    element.height_m = 0.5 * axial_depth_m;
+    element.axial_length_m = axial_depth_m;
+    element.chip_width_m = axial_depth_m;
+    element.radius_m = tool_.radius_m();
+    element.kappa_rad = 0.5 * std::numbers::pi;
+    edge.push_back(element);
+  } else {
+    edge = tool::discretize_edge(tool_, axial_depth_m,
+                                 cutting::default_axial_elements(tool_, axial_depth_m));
+  }
+  const Eigen::Vector3d shear(law_.Ktc_pa, law_.Krc_pa, law_.Kac_pa);
+  Eigen::Matrix3d stiffness = Eigen::Matrix3d::Zero();
+  for (const tool::EdgeElement& element : edge) {
+    const bool cylindrical = element.kappa_rad == 0.5 * std::numbers::pi;
+    const double sin_kappa = cylindrical ? 1.0 : std::sin(element.kappa_rad);
+    const double cos_kappa = cylindrical ? 0.0 : std::cos(element.kappa_rad);
+    const cutting::Engagement engagement = cutting::radial_engagement(
+        tool_.radius_m(), element.radius_m, process_.radial_depth_m, process_.direction);
+    for (int j = 0; j < tool_.teeth(); ++j) {
+      const double phi = cutting::wrap_angle_rad(rotation_rad + tool_.pitch_angle_rad(j) -
+                                                 element.lag_rad);
+      if (phi < engagement.entry_rad || phi > engagement.exit_rad) continue;
+      const double s = std::sin(phi), c = std::cos(phi);
+      Eigen::Matrix3d projection;  // columns: Ft, Fr, Fa directions (001 Eq 11)
+      projection << -c, -sin_kappa * s, -cos_kappa * s,  //
+          s, -sin_kappa * c, -cos_kappa * c,             //
+          0.0, cos_kappa, -sin_kappa;
+      const Eigen::Vector3d normal(sin_kappa * s, sin_kappa * c, -cos_kappa);
+      stiffness += element.chip_width_m * (projection * shear) * normal.transpose();
+    }
+  }
+  return stiffness;
+}
+
+CouplingSamples RegenerativeModel::sample(double axial_depth_m, int steps, int substeps) const {
+  if (steps < 1 || substeps < 1) throw std::invalid_argument("steps and substeps must be ≥ 1");
+  const double period_rad = 2.0 * std::numbers::pi / tool_.teeth();
+  const double step_rad = period_rad / steps;
+  auto modal = [&](double angle) -> Eigen::MatrixXd {
+    return shapes_.transpose() * cutting_stiffness(angle, axial_depth_m) * shapes_;
+  };
+  CouplingSamples samples;
+  samples.nodes.reserve(static_cast<std::size_t>(steps) + 1);
+  samples.means.reserve(static_cast<std::size_t>(steps));
+  // Window means of P: `means[k]` over the step [t_k, t_k+1] (semi-
+  // discretization), `nodes[k]` over [t_k − h/2, t_k + h/2] (the node values of
+  // the full discretization). Point values at the nodes would sample the
+  // entry/exit discontinuities at arbitrary phases, making the boundary jump
+  // with the discretization at low immersion; window means converge smoothly.
+  auto window_mean = [&](double start_step) {
+    Eigen::MatrixXd mean = Eigen::MatrixXd::Zero(modes_.size(), modes_.size());
+    for (int s = 0; s < substeps; ++s) mean += modal((start_step + (s + 0.5) / substeps) * step_rad);
+    return Eigen::MatrixXd(mean / substeps);
+  };
+  samples.average = Eigen::MatrixXd::Zero(modes_.size(), modes_.size());
+  for (int k = 0; k < steps; ++k) {
+    samples.means.push_back(window_mean(k));
+    samples.average += samples.means.back() / steps;
+  }
+  for (int k = 0; k <= steps; ++k) samples.nodes.push_back(window_mean(k - 0.5));
+  return samples;
+}
+
+}  // namespace robomill::stability

@@ -1,0 +1,77 @@
+// Time-domain stability methods (SDM, FDM, FDM2) on the one-DOF benchmark.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <iostream>
+
+#include "benchmark_1dof.hpp"
+#include "robomill/stability/floquet.hpp"
+#include "robomill/stability/lobes.hpp"
+
+namespace {
+
+using namespace robomill;
+using stability::FloquetMethod;
+
+TEST(Floquet, FreeVibrationDecaysByTheStructuralDamping) {
+  // With no cut (depth 0) the multipliers are e^{(−ζ ± i√(1−ζ²)) ωn τ}: the
+  // spectral radius is e^{−ζ ωn τ} exactly for every method.
+  const auto model = test::benchmark_1dof(1.0);
+  const auto samples = model.sample(1.0, 40);
+  for (FloquetMethod method : {FloquetMethod::sdm, FloquetMethod::fdm, FloquetMethod::fdm2}) {
+    stability::FloquetSolver solver(
+        method, {model.modes().natural_rad_s(), model.modes().damping_ratios()}, 40);
+    const double delay = 60.0 / (2.0 * 10000.0);
+    solver.set_delay(delay);
+    const double expected = std::exp(-0.011 * 2.0 * std::numbers::pi * 922.0 * delay);
+    EXPECT_NEAR(solver.solve(samples, 0.0).spectral_radius, expected, 1e-9);
+  }
+}
+
+double limit_mm(FloquetMethod method, int steps, double radial_immersion, double spindle_rpm) {
+  const auto model = test::benchmark_1dof(radial_immersion);
+  stability::LobeOptions options;
+  options.method = method;
+  options.steps = steps;
+  options.depth_max_m = 10e-3;
+  options.depth_tolerance = 1e-5;
+  options.coarse_points = 40;
+  options.threads = 1;
+  return stability::stability_boundary(model, {test::rpm(spindle_rpm)}, options)[0].depth_limit_m *
+         1e3;
+}
+
+// Judged point of the stability issue: SDM, FDM and FDM2 converge to the same
+// boundary as the discretization is refined. Shown by the spread between the
+// three methods at m = 40, 80, 160 steps per tooth period: it must shrink to
+// under half its m = 40 value and end below 1.2 % of the limit (SDM is first
+// order in h, FDM/FDM2 second order, so SDM dominates the remaining spread).
+TEST(Floquet, MethodsConvergeToTheSameBoundary) {
+  for (double immersion : {1.0, 0.05}) {
+    for (double speed : {7000.0, 12000.0, 20000.0}) {
+      double spread[3] = {0, 0, 0}, mean = 0.0;
+      const int levels[3] = {40, 80, 160};
+      for (int level = 0; level < 3; ++level) {
+        double low = INFINITY, high = 0.0, sum = 0.0;
+        for (FloquetMethod method : {FloquetMethod::sdm, FloquetMethod::fdm, FloquetMethod::fdm2}) {
+          const double limit = limit_mm(method, levels[level], immersion, speed);
+          low = std::min(low, limit);
+          high = std::max(high, limit);
+          sum += limit;
+          std::cout << "[validation] 1-DOF benchmark a/D " << immersion << ", " << speed << " rpm, "
+                    << (method == FloquetMethod::sdm   ? "SDM "
+                        : method == FloquetMethod::fdm ? "FDM "
+                                                       : "FDM2")
+                    << " m = " << levels[level] << ": limit " << limit << " mm\n";
+        }
+        spread[level] = high - low;
+        mean = sum / 3.0;
+      }
+      EXPECT_LT(spread[2], 0.5 * spread[0]) << "a/D " << immersion << ", " << speed << " rpm";
+      EXPECT_LT(spread[2], 0.012 * mean) << "a/D " << immersion << ", " << speed << " rpm";
+    }
+  }
+}
+
+}  // namespace
