@@ -124,6 +124,11 @@ void require(const Job& job, std::initializer_list<Section> sections) {
           throw InputError("dynamics.modes", 0, "section required by this command is missing");
         }
         break;
+      case Section::stability:
+        if (!job.stability) {
+          throw InputError("stability", 0, "section required by this command is missing");
+        }
+        break;
     }
   }
 }

@@ -993,6 +993,127 @@ std::vector<ModeSpec> read_dynamics(SectionReader& root) {
   return modes;
 }
 
+std::optional<StabilitySettings> read_stability(SectionReader& root,
+                                                const std::optional<tool::ToolSpec>& tool,
+                                                const std::vector<ModeSpec>& modes) {
+  auto section = root.section("stability");
+  if (!section)
+    return std::nullopt;
+  SectionReader& r = *section;
+  r.allow({"method", "mode", "modes", "speeds", "depth_max", "depths", "depth_tolerance",
+           "discretization", "process_damping"},
+          {"deformation"}, "unknown key (not supported by this version of robomill)");
+  using Settings = StabilitySettings;
+  Settings settings;
+
+  const std::string method = r.choice("method", {"zoa", "sdm", "fdm", "fdm2"}, "fdm");
+  settings.method = method == "zoa"   ? Settings::Method::zoa
+                    : method == "sdm" ? Settings::Method::sdm
+                    : method == "fdm" ? Settings::Method::fdm
+                                      : Settings::Method::fdm2;
+  settings.mode = r.choice("mode", {"boundary", "map"}, "boundary") == "map"
+                      ? Settings::Mode::map
+                      : Settings::Mode::boundary;
+  const std::string which = r.choice("modes", {"coupled", "envelope", "both"}, "coupled");
+  settings.modes = which == "coupled"    ? Settings::Modes::coupled
+                   : which == "envelope" ? Settings::Modes::envelope
+                                         : Settings::Modes::both;
+
+  const QuantityField rpm = field(dimensions::angular_speed, kRpm, "rpm", kPositive);
+  auto speeds = r.section("speeds");
+  if (!speeds) {
+    r.fail("speeds", "required field missing (the spindle-speed range {from, to, count}, in rpm)");
+  }
+  speeds->allow({"from", "to", "count"});
+  settings.speed_from_rad_s = speeds->quantity("from", rpm);
+  const std::optional<double> to = speeds->optional_quantity("to", rpm);
+  settings.speed_count = speeds->integer("count", 1, 100000);
+  speeds->finish();
+  if (settings.speed_count == 1) {
+    // One speed: `to` may be left out; if given it must name the same speed.
+    settings.speed_to_rad_s = to.value_or(settings.speed_from_rad_s);
+    if (std::abs(settings.speed_to_rad_s - settings.speed_from_rad_s) >
+        1e-9 * settings.speed_from_rad_s) {
+      speeds->fail("to",
+                   "with count 1 there is a single speed; leave out `to` or give it equal "
+                   "to from (" +
+                       detail::format_in_unit(settings.speed_from_rad_s, rpm) + "), got " +
+                       detail::format_in_unit(settings.speed_to_rad_s, rpm));
+    }
+  } else {
+    if (!to) {
+      speeds->fail("to",
+                   "required field missing (angular speed, in rpm by default; only a "
+                   "single speed, count 1, may leave it out)");
+    }
+    settings.speed_to_rad_s = *to;
+    if (!(settings.speed_to_rad_s > settings.speed_from_rad_s)) {
+      speeds->fail("to", "must be greater than from (" +
+                             detail::format_in_unit(settings.speed_from_rad_s, rpm) + "), got " +
+                             detail::format_in_unit(settings.speed_to_rad_s, rpm));
+    }
+  }
+
+  settings.depth_max_m = r.quantity("depth_max", length_mm());
+  if (tool && settings.depth_max_m > tool->overhang_m * (1.0 + 1e-9)) {
+    r.fail("depth_max", "depth search limit " +
+                            detail::format_in_unit(settings.depth_max_m, length_mm()) +
+                            " exceeds the tool overhang " +
+                            detail::format_in_unit(tool->overhang_m, length_mm()));
+  }
+  settings.depth_count = r.integer_or("depths", 2, 100000, settings.depth_count);
+  settings.depth_tolerance = r.quantity_or(
+      "depth_tolerance", dimensionless(kPositive, Bound{0.1, true}), settings.depth_tolerance);
+  settings.discretization = r.integer_or("discretization", 4, 10000, settings.discretization);
+
+  if (auto damping = r.section("process_damping")) {
+    damping->allow({"model", "Ksp", "wear_land", "mu"});
+    settings.process_damping =
+        damping->choice("model", {"linear_equivalent", "energy_balance"}) == "energy_balance"
+            ? Settings::Damping::energy_balance
+            : Settings::Damping::linear_equivalent;
+    // 000 Eq 18-19: indentation coefficient, flank wear land, friction.
+    settings.indentation_n_per_m3 =
+        damping->quantity("Ksp", field(dimensions::force_per_volume, 1.0, "N/m^3", kPositive));
+    settings.wear_land_m =
+        damping->quantity("wear_land", field(dimensions::length, 1e-6, "um", kPositive));
+    settings.friction = damping->quantity_or("mu", dimensionless(kNonNegative), 0.3);
+    damping->finish();
+  }
+  r.finish();
+
+  if (modes.empty()) {
+    r.fail_here(
+        "the stability command needs dynamics.modes (the structure's modal table); add a "
+        "dynamics: section with modes");
+  }
+  // Time-domain discretizations step through the tooth period τ = 60/(N n) in
+  // m steps of h = τ/m; h is largest at the lowest speed. At least two steps
+  // per period of the highest mode (h · f_max <= 0.5), otherwise that mode is
+  // aliased: m >= 2 f_max τ_max. ZOA has no time step.
+  if (tool && settings.method != Settings::Method::zoa) {
+    double f_max = 0.0;
+    for (const ModeSpec& mode : modes)
+      f_max = std::max(f_max, mode.natural_frequency_hz);
+    const double tau_max = 2.0 * kPi / (tool->teeth * settings.speed_from_rad_s);
+    const double needed = 2.0 * f_max * tau_max;
+    if (settings.discretization < needed * (1.0 - 1e-12)) {
+      const double minimum = std::ceil(needed * (1.0 - 1e-12));
+      const std::string fix = minimum <= 10000
+                                  ? "; raise it or use method zoa"
+                                  : ", beyond the limit of 10000: raise speeds.from or use "
+                                    "method zoa";
+      r.fail("discretization",
+             fmt::format("{} steps per tooth period{} are too coarse for the {:g} Hz mode at "
+                         "{:g} rpm with {} teeth: two steps per period of that mode need a "
+                         "discretization of at least {:.0f}{}",
+                         settings.discretization, r.has("discretization") ? "" : " (the default)",
+                         f_max, settings.speed_from_rad_s / kRpm, tool->teeth, minimum, fix));
+    }
+  }
+  return settings;
+}
+
 std::vector<Experiment> read_experiments(SectionReader& root) {
   std::vector<Experiment> experiments;
   auto items = root.sections("experiments");
@@ -1087,8 +1208,9 @@ Job read_job(const YAML::Node& root_node, const std::filesystem::path& source,
              const Provenance& provenance) {
   const int root_line = provenance.line(root_node, "") > 0 ? provenance.line(root_node, "") : 1;
   SectionReader root(root_node, "", root_line, provenance);
-  root.allow({"name", "tool", "cutting", "process", "forces", "dynamics", "experiments", "output"},
-             {"robot", "stability", "simulation", "surface", "optimize"},
+  root.allow({"name", "tool", "cutting", "process", "forces", "dynamics", "stability",
+              "experiments", "output"},
+             {"robot", "simulation", "surface", "optimize"},
              "section not supported by this version of robomill");
   Job job;
   job.source = source;
@@ -1098,6 +1220,7 @@ Job read_job(const YAML::Node& root_node, const std::filesystem::path& source,
   job.process = read_process(root, job.tool);
   job.forces = read_forces(root, job.tool);
   job.modes = read_dynamics(root);
+  job.stability = read_stability(root, job.tool, job.modes);
   job.experiments = read_experiments(root);
   job.output = read_output(root);
   root.finish();

@@ -372,8 +372,8 @@ TEST(JobValidation, UnknownKeys) {
                "(did you mean 'teeth'?)");
   expect_error("name: a\nprocesss:\n  ap: 1\n", "processs", 2,
                "unknown key; expected one of: name, tool, cutting, process, forces, dynamics, "
-               "experiments, output (did you mean 'process'?)");
-  expect_error("stability:\n  method: zoa\n", "stability", 1,
+               "stability, experiments, output (did you mean 'process'?)");
+  expect_error("robot:\n  dh: []\n", "robot", 1,
                "section not supported by this version of robomill");
   expect_error("dynamics:\n  frf: {x: a.uff}\n", "dynamics.frf", 2, "not supported");
   expect_error("cutting:\n  law: linear\n  Ktc: 800\n  kF: 3\n", "cutting.kF", 4,
