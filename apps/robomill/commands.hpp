@@ -29,6 +29,7 @@ std::filesystem::path output_dir(const JobCommandOptions& options, const io::Job
 
 int run_validate(const JobCommandOptions& options);
 int run_forces(const JobCommandOptions& options);
+int run_stability(const JobCommandOptions& options);
 
 struct IdentifyOptions {
   std::filesystem::path data_file;

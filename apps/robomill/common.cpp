@@ -35,6 +35,7 @@ int run_validate(const JobCommandOptions& options) {
     add(job.cutting.has_value(), "cutting");
     add(job.process.has_value(), "process");
     add(!job.modes.empty(), "dynamics");
+    add(job.stability.has_value(), "stability");
     add(!job.experiments.empty(), "experiments");
     if (!sections.empty())
       std::cout << " (" << sections << ")";

@@ -39,7 +39,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", "robomill 0.1.0");
 
-  robomill::app::JobCommandOptions validate_options, forces_options;
+  robomill::app::JobCommandOptions validate_options, forces_options, stability_options;
   CLI::App* validate = app.add_subcommand("validate", "check a job file without running it");
   add_job_options(*validate, validate_options, false);
 
@@ -47,6 +47,11 @@ int main(int argc, char** argv) {
       "forces",
       "milling forces and spindle torque over whole revolutions → forces.csv, summary.json");
   add_job_options(*forces, forces_options, true);
+
+  CLI::App* stability = app.add_subcommand(
+      "stability",
+      "stability lobe diagram: limiting depth per spindle speed → sld.csv (map.csv), summary.json");
+  add_job_options(*stability, stability_options, true);
 
   robomill::app::IdentifyOptions identify_options;
   CLI::App* identify = app.add_subcommand(
@@ -85,6 +90,8 @@ int main(int argc, char** argv) {
       return robomill::app::run_validate(validate_options);
     if (forces->parsed())
       return robomill::app::run_forces(forces_options);
+    if (stability->parsed())
+      return robomill::app::run_stability(stability_options);
     if (identify->parsed())
       return robomill::app::run_identify_cutting(identify_options);
   } catch (const robomill::InputError& error) {

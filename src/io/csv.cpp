@@ -35,17 +35,25 @@ CsvTable::CsvTable(std::vector<std::string> columns) : columns_(std::move(column
 }
 
 void CsvTable::add_row(const std::vector<double>& values) {
-  if (values.size() != columns_.size()) {
-    throw std::invalid_argument("CSV row has " + std::to_string(values.size()) + " values for " +
+  add_cells(std::vector<Cell>(values.begin(), values.end()));
+}
+
+void CsvTable::add_cells(const std::vector<Cell>& cells) {
+  if (cells.size() != columns_.size()) {
+    throw std::invalid_argument("CSV row has " + std::to_string(cells.size()) + " values for " +
                                 std::to_string(columns_.size()) + " columns");
   }
-  for (std::size_t c = 0; c < values.size(); ++c) {
-    if (!std::isfinite(values[c])) {
+  for (std::size_t c = 0; c < cells.size(); ++c) {
+    if (const double* value = std::get_if<double>(&cells[c]); value && !std::isfinite(*value)) {
       throw NumericalError("non-finite value in column '" + columns_[c] + "' (row " +
                            std::to_string(rows() + 1) + "); refusing to write it");
     }
+    if (const std::string* text = std::get_if<std::string>(&cells[c]);
+        text && text->find_first_of(",\"\n\r") != std::string::npos) {
+      throw std::invalid_argument("CSV text cell must not contain separators: '" + *text + "'");
+    }
   }
-  values_.insert(values_.end(), values.begin(), values.end());
+  cells_.insert(cells_.end(), cells.begin(), cells.end());
 }
 
 int CsvTable::find(const std::string& column) const noexcept {
@@ -58,7 +66,7 @@ int CsvTable::find(const std::string& column) const noexcept {
 
 std::string CsvTable::to_string() const {
   std::string text;
-  text.reserve(values_.size() * 14 + 64);
+  text.reserve(cells_.size() * 14 + 64);
   for (std::size_t c = 0; c < columns_.size(); ++c) {
     if (c)
       text += ',';
@@ -70,7 +78,12 @@ std::string CsvTable::to_string() const {
     for (std::size_t c = 0; c < columns_.size(); ++c) {
       if (c)
         text += ',';
-      double value = at(r, c);
+      const Cell& cell = cells_[r * columns_.size() + c];
+      if (const std::string* word = std::get_if<std::string>(&cell)) {
+        text += *word;
+        continue;
+      }
+      double value = std::get<double>(cell);
       if (value == 0.0)
         value = 0.0;  // no "-0"
       const auto result =

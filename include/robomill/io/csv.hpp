@@ -5,23 +5,30 @@
 
 #include <filesystem>
 #include <string>
+#include <variant>
 #include <vector>
 
 namespace robomill::io {
 
 class CsvTable {
  public:
+  /// A cell: a number, or a word such as "hopf" (text cells must not contain
+  /// commas, quotes or line breaks).
+  using Cell = std::variant<double, std::string>;
+
   explicit CsvTable(std::vector<std::string> columns);
 
   /// Appends a row; throws std::invalid_argument if its size differs from the
   /// header's, and robomill::NumericalError if a value is NaN or infinite
   /// (robomill never writes a non-finite result).
   void add_row(const std::vector<double>& values);
+  void add_cells(const std::vector<Cell>& cells);
 
   const std::vector<std::string>& columns() const noexcept { return columns_; }
-  std::size_t rows() const noexcept { return values_.size() / columns_.size(); }
+  std::size_t rows() const noexcept { return cells_.size() / columns_.size(); }
+  /// The number in a cell (throws std::bad_variant_access for a text cell).
   double at(std::size_t row, std::size_t column) const {
-    return values_[row * columns_.size() + column];
+    return std::get<double>(cells_[row * columns_.size() + column]);
   }
   /// Index of a column, or -1.
   int find(const std::string& column) const noexcept;
@@ -31,7 +38,7 @@ class CsvTable {
 
  private:
   std::vector<std::string> columns_;
-  std::vector<double> values_;
+  std::vector<Cell> cells_;
 };
 
 /// Reads a numeric CSV with a header row. Blank lines and lines starting with

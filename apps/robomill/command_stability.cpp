@@ -1,0 +1,361 @@
+// robomill stability JOB: the stability lobe diagram (DESIGN.md §3) by the
+// zero-order approximation or the semi-/full-discretization methods.
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iostream>
+#include <numbers>
+#include <optional>
+
+#include "commands.hpp"
+#include "robomill/core/error.hpp"
+#include "robomill/dynamics/modal_model.hpp"
+#include "robomill/io/csv.hpp"
+#include "robomill/io/output_bundle.hpp"
+#include "robomill/io/summary.hpp"
+#include "robomill/stability/lobes.hpp"
+#include "robomill/stability/process_damping.hpp"
+#include "robomill/stability/zero_order.hpp"
+
+namespace robomill::app {
+namespace {
+
+constexpr double kRpmPerRadS = 60.0 / (2.0 * std::numbers::pi);
+using Settings = io::StabilitySettings;
+
+/// One speed of a diagram, whatever method produced it.
+struct Limit {
+  double spindle_rad_s = 0.0;
+  double depth_limit_m = 0.0;
+  bool limited = false;
+  double chatter_frequency_hz = 0.0;
+  std::string bifurcation = "none";
+  int mode = -1;  ///< governing mode of an envelope, −1 for a coupled diagram
+};
+
+dynamics::ModalModel modal_model(const io::Job& job) {
+  std::vector<dynamics::Mode> modes;
+  for (const io::ModeSpec& spec : job.modes) {
+    const int axis = spec.direction == 'x' ? 0 : spec.direction == 'y' ? 1 : 2;
+    modes.push_back(dynamics::directional_mode(axis, spec.natural_frequency_hz, spec.damping_ratio,
+                                               spec.stiffness_n_per_m));
+  }
+  return dynamics::ModalModel(std::move(modes));
+}
+
+stability::FloquetMethod floquet_method(Settings::Method method) {
+  switch (method) {
+    case Settings::Method::sdm:
+      return stability::FloquetMethod::sdm;
+    case Settings::Method::fdm2:
+      return stability::FloquetMethod::fdm2;
+    default:
+      return stability::FloquetMethod::fdm;
+  }
+}
+
+const char* method_name(Settings::Method method) {
+  switch (method) {
+    case Settings::Method::zoa:
+      return "zoa";
+    case Settings::Method::sdm:
+      return "sdm";
+    case Settings::Method::fdm:
+      return "fdm";
+    case Settings::Method::fdm2:
+      return "fdm2";
+  }
+  return "?";
+}
+
+std::optional<stability::ProcessDamping> process_damping(const Settings& settings) {
+  if (settings.process_damping == Settings::Damping::none)
+    return std::nullopt;
+  stability::ProcessDamping damping;
+  damping.model = settings.process_damping == Settings::Damping::energy_balance
+                      ? stability::ProcessDampingModel::energy_balance
+                      : stability::ProcessDampingModel::linear_equivalent;
+  damping.indentation_n_per_m3 = settings.indentation_n_per_m3;
+  damping.wear_land_m = settings.wear_land_m;
+  damping.friction = settings.friction;
+  return damping;
+}
+
+std::vector<Limit> zero_order_diagram(const stability::RegenerativeModel& model,
+                                      const Settings& settings, const std::vector<double>& speeds,
+                                      bool envelope, int threads) {
+  stability::ProcessDampedOptions options;
+  options.zero_order.depth_max_m = settings.depth_max_m;
+  options.method =
+      envelope ? stability::MultiModeMethod::envelope : stability::MultiModeMethod::coupled;
+  options.threads = threads;
+  std::vector<Limit> limits;
+  for (const auto& z :
+       stability::process_damped_limits(model, process_damping(settings), speeds, options)) {
+    limits.push_back({z.spindle_rad_s, z.depth_limit_m, z.limited, z.chatter_frequency_hz,
+                      z.limited ? "hopf" : "none", z.mode});
+  }
+  return limits;
+}
+
+std::vector<Limit> floquet_diagram(const stability::RegenerativeModel& model,
+                                   const stability::LobeOptions& options,
+                                   const std::vector<double>& speeds) {
+  std::vector<Limit> limits;
+  for (const auto& p : stability::stability_boundary(model, speeds, options)) {
+    limits.push_back(
+        {p.spindle_rad_s, p.depth_limit_m, p.limited, p.chatter_frequency_hz, p.bifurcation, -1});
+  }
+  return limits;
+}
+
+/// 003 §3.2: the lowest envelope of the diagrams of each mode alone.
+std::vector<Limit> floquet_envelope(const io::Job& job, const dynamics::ModalModel& modes,
+                                    const stability::LobeOptions& options,
+                                    const std::vector<double>& speeds) {
+  std::vector<Limit> envelope;
+  for (int q = 0; q < modes.size(); ++q) {
+    const stability::RegenerativeModel single(tool::Tool(*job.tool), *job.cutting, *job.process,
+                                              modes.subset({q}));
+    const std::vector<Limit> diagram = floquet_diagram(single, options, speeds);
+    if (envelope.empty()) {
+      envelope = diagram;
+      for (Limit& l : envelope)
+        l.mode = q;
+      continue;
+    }
+    for (std::size_t i = 0; i < diagram.size(); ++i) {
+      if (diagram[i].depth_limit_m < envelope[i].depth_limit_m) {
+        envelope[i] = diagram[i];
+        envelope[i].mode = q;
+      }
+    }
+  }
+  return envelope;
+}
+
+io::CsvTable limit_table(const std::vector<Limit>& limits, bool with_mode) {
+  std::vector<std::string> columns = {"spindle_rpm", "depth_limit_mm", "chatter_freq_hz",
+                                      "bifurcation"};
+  if (with_mode)
+    columns.push_back("mode");
+  io::CsvTable table(columns);
+  for (const Limit& l : limits) {
+    std::vector<io::CsvTable::Cell> row = {l.spindle_rad_s * kRpmPerRadS, l.depth_limit_m * 1e3,
+                                           l.chatter_frequency_hz, l.bifurcation};
+    if (with_mode)
+      row.emplace_back(static_cast<double>(l.mode + 1));
+    table.add_cells(row);
+  }
+  return table;
+}
+
+/// The limit at any speed inside the diagram's range, linear between speeds.
+std::optional<double> interpolated_limit_m(const std::vector<Limit>& limits, double spindle_rad_s) {
+  if (limits.empty())
+    return std::nullopt;
+  if (limits.size() == 1) {
+    return std::abs(limits[0].spindle_rad_s - spindle_rad_s) <= 1e-9 * spindle_rad_s
+               ? std::optional(limits[0].depth_limit_m)
+               : std::nullopt;
+  }
+  if (spindle_rad_s < limits.front().spindle_rad_s || spindle_rad_s > limits.back().spindle_rad_s) {
+    return std::nullopt;
+  }
+  for (std::size_t i = 0; i + 1 < limits.size(); ++i) {
+    const Limit& a = limits[i];
+    const Limit& b = limits[i + 1];
+    if (spindle_rad_s <= b.spindle_rad_s) {
+      const double t = (spindle_rad_s - a.spindle_rad_s) / (b.spindle_rad_s - a.spindle_rad_s);
+      return a.depth_limit_m + t * (b.depth_limit_m - a.depth_limit_m);
+    }
+  }
+  return limits.back().depth_limit_m;
+}
+
+nlohmann::json experiment_check(const io::Job& job, const std::vector<Limit>& limits) {
+  nlohmann::json tests = nlohmann::json::array();
+  int agree = 0, compared = 0;
+  for (const io::Experiment& e : job.experiments) {
+    nlohmann::json entry = {{"spindle_rpm", e.spindle_rad_s * kRpmPerRadS},
+                            {"depth_mm", e.axial_depth_m * 1e3},
+                            {"observed_chatter", e.chatter}};
+    if (const auto limit = interpolated_limit_m(limits, e.spindle_rad_s)) {
+      const bool predicted = e.axial_depth_m >= *limit;
+      entry["limit_mm"] = *limit * 1e3;
+      entry["predicted_chatter"] = predicted;
+      entry["agrees"] = predicted == e.chatter;
+      ++compared;
+      agree += predicted == e.chatter ? 1 : 0;
+    } else {
+      entry["note"] = "spindle speed outside the computed range";
+    }
+    tests.push_back(entry);
+  }
+  return {{"tests", tests},
+          {"agree", agree},
+          {"compared", compared},
+          {"total", job.experiments.size()}};
+}
+
+nlohmann::json diagram_summary(const std::vector<Limit>& limits) {
+  double min_limit = INFINITY, max_limit = 0.0, min_speed = 0.0;
+  int unlimited = 0, flips = 0;
+  for (const Limit& l : limits) {
+    if (l.depth_limit_m < min_limit) {
+      min_limit = l.depth_limit_m;
+      min_speed = l.spindle_rad_s;
+    }
+    max_limit = std::max(max_limit, l.depth_limit_m);
+    unlimited += l.limited ? 0 : 1;
+    flips += l.bifurcation == "flip" ? 1 : 0;
+  }
+  return {{"min_limit_mm", min_limit * 1e3},
+          {"min_limit_spindle_rpm", min_speed * kRpmPerRadS},
+          {"max_limit_mm", max_limit * 1e3},
+          {"speeds_stable_to_depth_max", unlimited},
+          {"speeds_period_doubling", flips}};
+}
+
+}  // namespace
+
+int run_stability(const JobCommandOptions& options) {
+  const io::Job job = load(options);
+  io::require(job, {io::Section::tool, io::Section::cutting, io::Section::process,
+                    io::Section::modes, io::Section::stability});
+  const Settings& settings = *job.stability;
+  if (settings.process_damping == Settings::Damping::energy_balance &&
+      settings.method != Settings::Method::zoa) {
+    throw InputError("stability.process_damping", 0,
+                     "the energy-balance model applies to the zero-order method (003 §3.2); use "
+                     "method: zoa, or model: linear_equivalent with sdm/fdm/fdm2");
+  }
+  if (settings.process_damping == Settings::Damping::linear_equivalent &&
+      settings.method != Settings::Method::zoa) {
+    throw InputError("stability.process_damping", 0,
+                     "the linear-equivalent model inside sdm/fdm/fdm2 is not available in this "
+                     "version; use method: zoa");
+  }
+  if (settings.mode == Settings::Mode::map && settings.method == Settings::Method::zoa) {
+    throw InputError("stability.mode", 0,
+                     "a spectral-radius map needs a time-domain method (sdm, fdm or fdm2)");
+  }
+
+  const auto start = std::chrono::steady_clock::now();
+  const dynamics::ModalModel modes = modal_model(job);
+  const stability::RegenerativeModel model(tool::Tool(*job.tool), *job.cutting, *job.process,
+                                           modes);
+  const std::vector<double> speeds = stability::linear_range(
+      settings.speed_from_rad_s, settings.speed_to_rad_s, settings.speed_count);
+  stability::LobeOptions lobe_options;
+  lobe_options.method = floquet_method(settings.method);
+  lobe_options.steps = settings.discretization;
+  lobe_options.depth_max_m = settings.depth_max_m;
+  lobe_options.depth_tolerance = settings.depth_tolerance;
+  lobe_options.threads = options.threads;
+
+  const bool want_coupled = settings.modes != Settings::Modes::envelope;
+  const bool want_envelope = settings.modes != Settings::Modes::coupled;
+  std::vector<Limit> coupled, envelope;
+  std::optional<stability::StabilityMap> map;
+  if (settings.method == Settings::Method::zoa) {
+    if (want_coupled)
+      coupled = zero_order_diagram(model, settings, speeds, false, options.threads);
+    if (want_envelope)
+      envelope = zero_order_diagram(model, settings, speeds, true, options.threads);
+  } else {
+    if (want_coupled)
+      coupled = floquet_diagram(model, lobe_options, speeds);
+    if (want_envelope)
+      envelope = floquet_envelope(job, modes, lobe_options, speeds);
+    if (settings.mode == Settings::Mode::map) {
+      const auto depths = stability::linear_range(settings.depth_max_m / settings.depth_count,
+                                                  settings.depth_max_m, settings.depth_count);
+      map = stability::stability_map(model, speeds, depths, lobe_options);
+    }
+  }
+  const double elapsed_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const std::vector<Limit>& primary = want_coupled ? coupled : envelope;
+
+  nlohmann::json summary = {
+      {"command", "stability"},
+      {"job", job.source.string()},
+      {"method", method_name(settings.method)},
+      {"elapsed_s", elapsed_s},
+      {"speeds",
+       {{"from_rpm", settings.speed_from_rad_s * kRpmPerRadS},
+        {"to_rpm", settings.speed_to_rad_s * kRpmPerRadS},
+        {"count", settings.speed_count}}},
+      {"depth_max_mm", settings.depth_max_m * 1e3},
+      {"depth_tolerance", settings.depth_tolerance},
+      {"modes", settings.modes == Settings::Modes::coupled    ? "coupled"
+                : settings.modes == Settings::Modes::envelope ? "envelope"
+                                                              : "both"},
+      {"mode_count", modes.size()},
+      {"process_damping", settings.process_damping == Settings::Damping::none ? "none"
+                          : settings.process_damping == Settings::Damping::energy_balance
+                              ? "energy_balance"
+                              : "linear_equivalent"},
+      {"experiments", experiment_check(job, primary)},
+  };
+  if (settings.method != Settings::Method::zoa)
+    summary["discretization"] = settings.discretization;
+  summary.update(diagram_summary(primary));
+  if (want_coupled && want_envelope) {
+    summary["envelope"] = diagram_summary(envelope);
+    summary["envelope"]["experiments"] = experiment_check(job, envelope);
+  }
+  if (map) {
+    summary["map"] = {{"speeds", map->spindle_rad_s.size()},
+                      {"depths", map->depth_m.size()},
+                      {"grid_points_per_s", static_cast<double>(map->spectral_radius.size()) /
+                                                std::max(elapsed_s, 1e-9)}};
+  }
+  if (!job.name.empty())
+    summary["name"] = job.name;
+
+  const std::filesystem::path out = output_dir(options, job, "stability");
+  io::OutputBundle bundle(out);
+  if (job.output.csv) {
+    bundle.add("sld.csv", limit_table(primary, !want_coupled).to_string());
+    if (want_coupled && want_envelope) {
+      bundle.add("sld_envelope.csv", limit_table(envelope, true).to_string());
+    }
+    if (map) {
+      io::CsvTable table({"spindle_rpm", "depth_mm", "spectral_radius"});
+      for (std::size_t i = 0; i < map->spindle_rad_s.size(); ++i) {
+        for (std::size_t j = 0; j < map->depth_m.size(); ++j) {
+          table.add_row(
+              {map->spindle_rad_s[i] * kRpmPerRadS, map->depth_m[j] * 1e3,
+               map->spectral_radius(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j))});
+        }
+      }
+      bundle.add("map.csv", table.to_string());
+    }
+  }
+  if (job.output.json)
+    bundle.add("summary.json", io::summary_text(summary));
+  bundle.commit();
+
+  if (!options.quiet) {
+    const nlohmann::json figures = diagram_summary(primary);
+    std::cout << fmt::format(
+        "stability ({}): {} speeds in {:.3f} s; limit {:.3f} mm (at {:.0f} rpm) … {:.3f} mm\n",
+        method_name(settings.method), speeds.size(), elapsed_s,
+        figures["min_limit_mm"].get<double>(), figures["min_limit_spindle_rpm"].get<double>(),
+        figures["max_limit_mm"].get<double>());
+    if (!job.experiments.empty()) {
+      const nlohmann::json check = summary["experiments"];
+      std::cout << fmt::format("  experiments: {} of {} agree with the prediction\n",
+                               check["agree"].get<int>(), check["compared"].get<int>());
+    }
+    std::cout << "  written to " << out.string() << '\n';
+  }
+  return 0;
+}
+
+}  // namespace robomill::app

@@ -1,0 +1,68 @@
+// Stability-lobe throughput on the literature's benchmark grid (DESIGN.md §5;
+// the stability issue's speed criteria): one-DOF benchmark, a/D = 0.05, 200
+// speeds from 5 000 to 25 000 rpm x 100 depths up to 10 mm, 40 steps per
+// tooth period, full discretization; and the boundary mode giving the 200
+// limits to 0.1 % depth precision.
+
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "../tests/stability/benchmark_1dof.hpp"
+#include "robomill/stability/lobes.hpp"
+
+namespace {
+
+using namespace robomill;
+
+std::vector<double> benchmark_speeds() {
+  return stability::linear_range(test::rpm(5000.0), test::rpm(25000.0), 200);
+}
+
+void BM_BenchmarkMap(benchmark::State& state) {
+  const auto model = test::benchmark_1dof(0.05);
+  stability::LobeOptions options;
+  options.method = static_cast<stability::FloquetMethod>(state.range(0));
+  options.steps = 40;
+  options.depth_max_m = 10e-3;
+  options.threads = static_cast<int>(state.range(1));
+  const auto depths = stability::linear_range(0.1e-3, 10e-3, 100);
+  const auto speeds = benchmark_speeds();
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(stability::stability_map(model, speeds, depths, options));
+  }
+  state.counters["grid_points_per_s"] = benchmark::Counter(
+      20000.0 * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_BenchmarkMap)
+    ->ArgNames({"method", "threads"})
+    ->Args({1, 1})
+    ->Args({1, 2})
+    ->Args({0, 2})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+void BM_BenchmarkBoundary(benchmark::State& state) {
+  const auto model = test::benchmark_1dof(0.05);
+  stability::LobeOptions options;
+  options.method = stability::FloquetMethod::fdm;
+  options.steps = 40;
+  options.depth_max_m = 10e-3;
+  options.depth_tolerance = 1e-3;
+  options.threads = static_cast<int>(state.range(0));
+  const auto speeds = benchmark_speeds();
+  int evaluations = 0;
+  for (auto _ : state) {
+    const auto points = stability::stability_boundary(model, speeds, options);
+    evaluations = 0;
+    for (const auto& p : points) evaluations += p.evaluations;
+    benchmark::DoNotOptimize(points);
+  }
+  state.counters["floquet_solves"] = evaluations;
+  state.counters["limits_per_s"] = benchmark::Counter(
+      200.0 * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_BenchmarkBoundary)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace
