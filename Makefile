@@ -19,8 +19,9 @@ build: setup
 	cmake --build $(BUILD) -j$(JOBS)
 
 demo: build
-	./$(BUILD)/robomill forces examples/demo.yaml --out out/demo
-	@echo "demo: results in out/demo (forces.csv, summary.json)"
+	./$(BUILD)/robomill forces examples/demo.yaml --out out/demo/forces
+	./$(BUILD)/robomill stability examples/demo.yaml --out out/demo/stability
+	@echo "demo: results in out/demo/forces (forces.csv, summary.json) and out/demo/stability (sld.csv, sld_envelope.csv, summary.json)"
 
 # The fuzz run comes before the sanitizer tests so that ctest's summary closes the output.
 test: test-release fuzz test-sanitize

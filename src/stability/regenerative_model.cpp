@@ -40,11 +40,7 @@ RegenerativeModel::RegenerativeModel(const tool::Tool& tool, const cutting::Cutt
   }
 }
 
-Eigen::Matrix3d RegenerativeModel::cutting_stiffness(double rotation_rad,
-                                                     double axial_depth_m) const {
-  // Same geometry as the force model (MillingForceModel::at); only the
-  // chip-thickness (shear) coefficients respond to vibration.
-  std::vector<tool::EdgeElement> edge;
+std::vector<tool::EdgeElement> RegenerativeModel::edge(double axial_depth_m) const {
   if (proportional_) {
     // Straight cylindrical flutes: one element of the whole depth is exact,
     // and any depth (also the unit depth used for scaling) is allowed.
@@ -54,50 +50,89 @@ Eigen::Matrix3d RegenerativeModel::cutting_stiffness(double rotation_rad,
     element.chip_width_m = axial_depth_m;
     element.radius_m = tool_.radius_m();
     element.kappa_rad = 0.5 * std::numbers::pi;
-    edge.push_back(element);
-  } else {
-    edge = tool::discretize_edge(tool_, axial_depth_m,
-                                 cutting::default_axial_elements(tool_, axial_depth_m));
+    return {element};
   }
-  const Eigen::Vector3d shear(law_.Ktc_pa, law_.Krc_pa, law_.Kac_pa);
-  Eigen::Matrix3d stiffness = Eigen::Matrix3d::Zero();
+  return tool::discretize_edge(tool_, axial_depth_m,
+                               cutting::default_axial_elements(tool_, axial_depth_m));
+}
+
+namespace {
+
+// Calls visit(db, T, n) for every engaged (element, tooth) at spindle angle ϕ:
+// T the projection of 001 Eq 11 (columns Ft, Fr, Fa), n the edge normal.
+template <class Visit>
+void for_each_engaged(const tool::Tool& tool, const cutting::MillingProcess& process,
+                      const std::vector<tool::EdgeElement>& edge, double rotation_rad,
+                      Visit&& visit) {
   for (const tool::EdgeElement& element : edge) {
     const bool cylindrical = element.kappa_rad == 0.5 * std::numbers::pi;
     const double sin_kappa = cylindrical ? 1.0 : std::sin(element.kappa_rad);
     const double cos_kappa = cylindrical ? 0.0 : std::cos(element.kappa_rad);
     const cutting::Engagement engagement = cutting::radial_engagement(
-        tool_.radius_m(), element.radius_m, process_.radial_depth_m, process_.direction);
-    for (int j = 0; j < tool_.teeth(); ++j) {
-      const double phi = cutting::wrap_angle_rad(rotation_rad + tool_.pitch_angle_rad(j) -
-                                                 element.lag_rad);
+        tool.radius_m(), element.radius_m, process.radial_depth_m, process.direction);
+    for (int j = 0; j < tool.teeth(); ++j) {
+      const double phi =
+          cutting::wrap_angle_rad(rotation_rad + tool.pitch_angle_rad(j) - element.lag_rad);
       if (phi < engagement.entry_rad || phi > engagement.exit_rad) continue;
       const double s = std::sin(phi), c = std::cos(phi);
-      Eigen::Matrix3d projection;  // columns: Ft, Fr, Fa directions (001 Eq 11)
+      Eigen::Matrix3d projection;
       projection << -c, -sin_kappa * s, -cos_kappa * s,  //
           s, -sin_kappa * c, -cos_kappa * c,             //
           0.0, cos_kappa, -sin_kappa;
       const Eigen::Vector3d normal(sin_kappa * s, sin_kappa * c, -cos_kappa);
-      stiffness += element.chip_width_m * (projection * shear) * normal.transpose();
+      visit(element.chip_width_m, projection, normal);
     }
   }
+}
+
+}  // namespace
+
+Eigen::Matrix3d RegenerativeModel::cutting_stiffness(double rotation_rad,
+                                                     double axial_depth_m) const {
+  // Same geometry as the force model (MillingForceModel::at); only the
+  // chip-thickness (shear) coefficients respond to vibration.
+  const Eigen::Vector3d shear(law_.Ktc_pa, law_.Krc_pa, law_.Kac_pa);
+  Eigen::Matrix3d stiffness = Eigen::Matrix3d::Zero();
+  for_each_engaged(tool_, process_, edge(axial_depth_m), rotation_rad,
+                   [&](double width, const Eigen::Matrix3d& projection,
+                       const Eigen::Vector3d& normal) {
+                     stiffness += width * (projection * shear) * normal.transpose();
+                   });
   return stiffness;
 }
 
-CouplingSamples RegenerativeModel::sample(double axial_depth_m, int steps, int substeps) const {
+Eigen::Matrix3d RegenerativeModel::damping_shape(double rotation_rad, double axial_depth_m,
+                                                 double friction) const {
+  const Eigen::Vector3d split(friction, 1.0, 0.0);  // 000 Eq 18: [Ft; Fr] = C_eq [μ; 1] v_n
+  Eigen::Matrix3d shape = Eigen::Matrix3d::Zero();
+  for_each_engaged(tool_, process_, edge(axial_depth_m), rotation_rad,
+                   [&](double width, const Eigen::Matrix3d& projection,
+                       const Eigen::Vector3d& normal) {
+                     // Like the chip force with h replaced by the normal velocity
+                     // v_n = nᵀ q'; the radial column of T is −n, so the
+                     // indentation force opposes the motion into the part.
+                     shape += width * (projection * split) * normal.transpose();
+                   });
+  return shape;
+}
+
+template <class Matrix3Of>
+CouplingSamples RegenerativeModel::sample_modal(Matrix3Of&& matrix_at, int steps,
+                                                int substeps) const {
   if (steps < 1 || substeps < 1) throw std::invalid_argument("steps and substeps must be ≥ 1");
   const double period_rad = 2.0 * std::numbers::pi / tool_.teeth();
   const double step_rad = period_rad / steps;
   auto modal = [&](double angle) -> Eigen::MatrixXd {
-    return shapes_.transpose() * cutting_stiffness(angle, axial_depth_m) * shapes_;
+    return shapes_.transpose() * matrix_at(angle) * shapes_;
   };
   CouplingSamples samples;
   samples.nodes.reserve(static_cast<std::size_t>(steps) + 1);
   samples.means.reserve(static_cast<std::size_t>(steps));
-  // Window means of P: `means[k]` over the step [t_k, t_k+1] (semi-
-  // discretization), `nodes[k]` over [t_k − h/2, t_k + h/2] (the node values of
-  // the full discretization). Point values at the nodes would sample the
-  // entry/exit discontinuities at arbitrary phases, making the boundary jump
-  // with the discretization at low immersion; window means converge smoothly.
+  // Window means: `means[k]` over the step [t_k, t_k+1] (semi-discretization),
+  // `nodes[k]` over [t_k − h/2, t_k + h/2] (the node values of the full
+  // discretization). Point values at the nodes would sample the entry/exit
+  // discontinuities at arbitrary phases, making the boundary jump with the
+  // discretization at low immersion; window means converge smoothly.
   auto window_mean = [&](double start_step) {
     Eigen::MatrixXd mean = Eigen::MatrixXd::Zero(modes_.size(), modes_.size());
     for (int s = 0; s < substeps; ++s) mean += modal((start_step + (s + 0.5) / substeps) * step_rad);
@@ -110,6 +145,18 @@ CouplingSamples RegenerativeModel::sample(double axial_depth_m, int steps, int s
   }
   for (int k = 0; k <= steps; ++k) samples.nodes.push_back(window_mean(k - 0.5));
   return samples;
+}
+
+CouplingSamples RegenerativeModel::sample(double axial_depth_m, int steps, int substeps) const {
+  return sample_modal([&](double angle) { return cutting_stiffness(angle, axial_depth_m); }, steps,
+                      substeps);
+}
+
+CouplingSamples RegenerativeModel::sample_damping(double axial_depth_m, int steps, double friction,
+                                                  int substeps) const {
+  return sample_modal(
+      [&](double angle) { return damping_shape(angle, axial_depth_m, friction); }, steps,
+      substeps);
 }
 
 }  // namespace robomill::stability

@@ -45,6 +45,20 @@ class RegenerativeModel {
   /// discontinuities are resolved.
   CouplingSamples sample(double axial_depth_m, int steps, int substeps = 8) const;
 
+  /// Process damping of Ahmadi's linear-equivalent model (000 Eq 18-19): the
+  /// force on the tool is F_c = C_eq' · D(ϕ) q', with C_eq' = K_sp w² / (4 v)
+  /// the damping per unit engaged width and
+  ///   D(ϕ) = Σ g db · T(φ, κ) [μ 1 0]ᵀ · nᵀ
+  /// (radial force C_eq v_n with v_n = nᵀ q' the velocity into the part, and
+  /// its friction share μ tangentially; T's radial column is −n, so the force
+  /// opposes the motion). Returns D at spindle angle ϕ, m.
+  Eigen::Matrix3d damping_shape(double rotation_rad, double axial_depth_m, double friction) const;
+
+  /// Φᵀ D Φ sampled like sample(): the modal process-damping matrix per unit
+  /// C_eq'; the Floquet solver's damping is C(t) = −C_eq' Φᵀ D Φ.
+  CouplingSamples sample_damping(double axial_depth_m, int steps, double friction,
+                                 int substeps = 8) const;
+
   /// True when W is proportional to the depth (straight flutes on a
   /// cylindrical edge), so samples at 1 m scale to any depth.
   bool proportional_to_depth() const noexcept { return proportional_; }
@@ -63,6 +77,10 @@ class RegenerativeModel {
   dynamics::ModalModel modes_;
   Eigen::Matrix<double, 3, Eigen::Dynamic> shapes_;
   bool proportional_ = false;
+
+  std::vector<tool::EdgeElement> edge(double axial_depth_m) const;
+  template <class Matrix3Of>
+  CouplingSamples sample_modal(Matrix3Of&& matrix_at, int steps, int substeps) const;
 };
 
 }  // namespace robomill::stability
