@@ -233,12 +233,6 @@ int run_stability(const JobCommandOptions& options) {
                      "the energy-balance model applies to the zero-order method (003 §3.2); use "
                      "method: zoa, or model: linear_equivalent with sdm/fdm/fdm2");
   }
-  if (settings.process_damping == Settings::Damping::linear_equivalent &&
-      settings.method != Settings::Method::zoa) {
-    throw InputError("stability.process_damping", 0,
-                     "the linear-equivalent model inside sdm/fdm/fdm2 is not available in this "
-                     "version; use method: zoa");
-  }
   if (settings.mode == Settings::Mode::map && settings.method == Settings::Method::zoa) {
     throw InputError("stability.mode", 0,
                      "a spectral-radius map needs a time-domain method (sdm, fdm or fdm2)");
@@ -256,6 +250,10 @@ int run_stability(const JobCommandOptions& options) {
   lobe_options.depth_max_m = settings.depth_max_m;
   lobe_options.depth_tolerance = settings.depth_tolerance;
   lobe_options.threads = options.threads;
+  if (settings.process_damping == Settings::Damping::linear_equivalent) {
+    lobe_options.process_damping = stability::LinearProcessDamping{
+        settings.indentation_n_per_m3, settings.wear_land_m, settings.friction};
+  }
 
   const bool want_coupled = settings.modes != Settings::Modes::envelope;
   const bool want_envelope = settings.modes != Settings::Modes::coupled;

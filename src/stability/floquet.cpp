@@ -36,14 +36,17 @@ FloquetSolver::FloquetSolver(FloquetMethod method, const ModalDynamics& dynamics
   if (modes_ < 1 || dynamics.damping_ratio.size() != modes_) {
     throw std::invalid_argument("modal dynamics need matching frequencies and damping ratios");
   }
-  if (steps_ < 1) throw std::invalid_argument("discretization needs at least one step");
+  if (steps_ < 1)
+    throw std::invalid_argument("discretization needs at least one step");
   const int n = modes_;
   state_size_ = 2 * n + steps_ * n + (method_ == FloquetMethod::fdm2 ? n : 0);
   a0_ = Eigen::MatrixXd::Zero(2 * n, 2 * n);
   a0_.topRightCorner(n, n) = Eigen::MatrixXd::Identity(n, n);
   a0_.bottomLeftCorner(n, n) = (-dynamics.natural_rad_s.array().square()).matrix().asDiagonal();
   a0_.bottomRightCorner(n, n) =
-      (-2.0 * dynamics.damping_ratio.array() * dynamics.natural_rad_s.array()).matrix().asDiagonal();
+      (-2.0 * dynamics.damping_ratio.array() * dynamics.natural_rad_s.array())
+          .matrix()
+          .asDiagonal();
   monodromy_.resize(state_size_, state_size_);
   psi_.resize(state_size_, state_size_);
   eigen_ = Eigen::EigenSolver<Eigen::MatrixXd>(state_size_);
@@ -55,7 +58,8 @@ FloquetSolver::FloquetSolver(FloquetMethod method, const ModalDynamics& dynamics
 }
 
 void FloquetSolver::set_delay(double delay_s) {
-  if (!(delay_s > 0.0) || !std::isfinite(delay_s)) throw std::invalid_argument("delay must be positive");
+  if (!(delay_s > 0.0) || !std::isfinite(delay_s))
+    throw std::invalid_argument("delay must be positive");
   delay_s_ = delay_s;
   const double h = delay_s / steps_;
   Eigen::MatrixXd f1, f2, f3;
@@ -76,14 +80,16 @@ void FloquetSolver::set_delay(double delay_s) {
 }
 
 void FloquetSolver::sdm_step_matrices(const Eigen::MatrixXd& mean_coupling,
-                                      const Eigen::MatrixXd* mean_damping, double scale) {
+                                      const Eigen::MatrixXd* mean_damping, double scale,
+                                      double damping_scale) {
   // Semi-discretization: exact solution of ẋ = (A0 + Ā_k) x + B̄_k η_lin(t − τ)
   // on the step, with η_lin linear between η_{k−m} and η_{k−m+1}.
   const int n = modes_;
   const double h = delay_s_ / steps_;
   Eigen::MatrixXd a = a0_;
   a.bottomLeftCorner(n, n) += scale * mean_coupling;
-  if (mean_damping != nullptr) a.bottomRightCorner(n, n) -= scale * *mean_damping;
+  if (mean_damping != nullptr)
+    a.bottomRightCorner(n, n) -= damping_scale * *mean_damping;
   Eigen::MatrixXd f1, f2, f3;
   polynomial_integrals(a, h, sdm_exp_, f1, f2, f3);
   // B̄ = [0; −P̄]: only the right half of the integrals matters.
@@ -92,8 +98,9 @@ void FloquetSolver::sdm_step_matrices(const Eigen::MatrixXd& mean_coupling,
 }
 
 FloquetResult FloquetSolver::solve(const CouplingSamples& coupling, double scale,
-                                   const CouplingSamples* damping) {
-  if (delay_s_ <= 0.0) throw std::logic_error("FloquetSolver::set_delay must be called first");
+                                   const CouplingSamples* damping, double damping_scale) {
+  if (delay_s_ <= 0.0)
+    throw std::logic_error("FloquetSolver::set_delay must be called first");
   if (static_cast<int>(coupling.means.size()) != steps_ ||
       static_cast<int>(coupling.nodes.size()) != steps_ + 1) {
     throw std::invalid_argument("coupling samples do not match the discretization");
@@ -107,7 +114,8 @@ FloquetResult FloquetSolver::solve(const CouplingSamples& coupling, double scale
   // (logical η_{−1−j}) lives at physical block (head + j) mod m.
   monodromy_.setIdentity();  // used as the history buffer (rows 2n … 2n + mn)
   rows_x_ = monodromy_.topRows(2 * n);
-  if (method_ == FloquetMethod::fdm2) rows_x_prev_ = monodromy_.middleRows(velocity_offset, n);
+  if (method_ == FloquetMethod::fdm2)
+    rows_x_prev_ = monodromy_.middleRows(velocity_offset, n);
   int head = 0;
   auto history_rows = [&](int logical) {
     const int physical = (head + logical) % m;
@@ -122,7 +130,8 @@ FloquetResult FloquetSolver::solve(const CouplingSamples& coupling, double scale
     if (method_ == FloquetMethod::sdm) {
       const Eigen::MatrixXd* mean_damping =
           damping ? &damping->means[static_cast<std::size_t>(k)] : nullptr;
-      sdm_step_matrices(coupling.means[static_cast<std::size_t>(k)], mean_damping, scale);
+      sdm_step_matrices(coupling.means[static_cast<std::size_t>(k)], mean_damping, scale,
+                        damping_scale);
       new_rows_.noalias() = sdm_exp_ * rows_x_;
       new_rows_.noalias() += sdm_delay_a_ * delayed_old;
       if (m > 1) {
@@ -138,7 +147,7 @@ FloquetResult FloquetSolver::solve(const CouplingSamples& coupling, double scale
       rhs_block_.leftCols(n).noalias() += scale * phi_now_.rightCols(n) * p_now;
       if (damping) {
         rhs_block_.rightCols(n).noalias() -=
-            scale * phi_now_.rightCols(n) * damping->nodes[static_cast<std::size_t>(k)];
+            damping_scale * phi_now_.rightCols(n) * damping->nodes[static_cast<std::size_t>(k)];
       }
       new_rows_.noalias() = rhs_block_ * rows_x_;
       if (method_ == FloquetMethod::fdm2) {
@@ -147,7 +156,7 @@ FloquetResult FloquetSolver::solve(const CouplingSamples& coupling, double scale
         new_rows_.noalias() += scale * phi_prev_.rightCols(n) *
                                coupling.nodes[static_cast<std::size_t>(previous)] * eta_prev;
         if (damping) {
-          new_rows_.noalias() -= scale * phi_prev_.rightCols(n) *
+          new_rows_.noalias() -= damping_scale * phi_prev_.rightCols(n) *
                                  damping->nodes[static_cast<std::size_t>(previous)] * rows_x_prev_;
         }
       }
@@ -161,23 +170,26 @@ FloquetResult FloquetSolver::solve(const CouplingSamples& coupling, double scale
       lhs_.setIdentity();
       lhs_.leftCols(n).noalias() -= scale * phi_next_.rightCols(n) * p_next;
       if (damping) {
-        lhs_.rightCols(n).noalias() +=
-            scale * phi_next_.rightCols(n) * damping->nodes[static_cast<std::size_t>(k + 1)];
+        lhs_.rightCols(n).noalias() += damping_scale * phi_next_.rightCols(n) *
+                                       damping->nodes[static_cast<std::size_t>(k + 1)];
       }
       new_rows_ = lhs_.partialPivLu().solve(new_rows_);
     }
     // Shift: η_k enters the history, η_{k−m} leaves (its block is reused).
     head = (head + m - 1) % m;
     history_rows(0) = rows_x_.topRows(n);
-    if (method_ == FloquetMethod::fdm2) rows_x_prev_ = rows_x_.bottomRows(n);
+    if (method_ == FloquetMethod::fdm2)
+      rows_x_prev_ = rows_x_.bottomRows(n);
     rows_x_.swap(new_rows_);
   }
 
   // Assemble z_m = Ψ z_0 in logical order.
   Eigen::MatrixXd& psi = psi_;
   psi.topRows(2 * n) = rows_x_;
-  for (int j = 0; j < m; ++j) psi.middleRows(history_offset + j * n, n) = history_rows(j);
-  if (method_ == FloquetMethod::fdm2) psi.middleRows(velocity_offset, n) = rows_x_prev_;
+  for (int j = 0; j < m; ++j)
+    psi.middleRows(history_offset + j * n, n) = history_rows(j);
+  if (method_ == FloquetMethod::fdm2)
+    psi.middleRows(velocity_offset, n) = rows_x_prev_;
 
   eigen_.compute(psi, /*computeEigenvectors=*/false);
   FloquetResult result;
@@ -200,7 +212,8 @@ double chatter_frequency_hz(std::complex<double> multiplier, double delay_s,
   double best_flexibility = -1.0;
   for (int k = -1; (k + base) * tooth_hz <= highest || k < 2; ++k) {
     const double candidate = std::abs((k + base) * tooth_hz);
-    if (candidate <= 0.0) continue;
+    if (candidate <= 0.0)
+      continue;
     const double flexibility =
         modes.receptance(2.0 * std::numbers::pi * candidate).cwiseAbs().maxCoeff();
     if (flexibility > best_flexibility) {

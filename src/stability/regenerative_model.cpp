@@ -73,7 +73,8 @@ void for_each_engaged(const tool::Tool& tool, const cutting::MillingProcess& pro
     for (int j = 0; j < tool.teeth(); ++j) {
       const double phi =
           cutting::wrap_angle_rad(rotation_rad + tool.pitch_angle_rad(j) - element.lag_rad);
-      if (phi < engagement.entry_rad || phi > engagement.exit_rad) continue;
+      if (phi < engagement.entry_rad || phi > engagement.exit_rad)
+        continue;
       const double s = std::sin(phi), c = std::cos(phi);
       Eigen::Matrix3d projection;
       projection << -c, -sin_kappa * s, -cos_kappa * s,  //
@@ -93,11 +94,11 @@ Eigen::Matrix3d RegenerativeModel::cutting_stiffness(double rotation_rad,
   // chip-thickness (shear) coefficients respond to vibration.
   const Eigen::Vector3d shear(law_.Ktc_pa, law_.Krc_pa, law_.Kac_pa);
   Eigen::Matrix3d stiffness = Eigen::Matrix3d::Zero();
-  for_each_engaged(tool_, process_, edge(axial_depth_m), rotation_rad,
-                   [&](double width, const Eigen::Matrix3d& projection,
-                       const Eigen::Vector3d& normal) {
-                     stiffness += width * (projection * shear) * normal.transpose();
-                   });
+  for_each_engaged(
+      tool_, process_, edge(axial_depth_m), rotation_rad,
+      [&](double width, const Eigen::Matrix3d& projection, const Eigen::Vector3d& normal) {
+        stiffness += width * (projection * shear) * normal.transpose();
+      });
   return stiffness;
 }
 
@@ -105,21 +106,22 @@ Eigen::Matrix3d RegenerativeModel::damping_shape(double rotation_rad, double axi
                                                  double friction) const {
   const Eigen::Vector3d split(friction, 1.0, 0.0);  // 000 Eq 18: [Ft; Fr] = C_eq [μ; 1] v_n
   Eigen::Matrix3d shape = Eigen::Matrix3d::Zero();
-  for_each_engaged(tool_, process_, edge(axial_depth_m), rotation_rad,
-                   [&](double width, const Eigen::Matrix3d& projection,
-                       const Eigen::Vector3d& normal) {
-                     // Like the chip force with h replaced by the normal velocity
-                     // v_n = nᵀ q'; the radial column of T is −n, so the
-                     // indentation force opposes the motion into the part.
-                     shape += width * (projection * split) * normal.transpose();
-                   });
+  for_each_engaged(
+      tool_, process_, edge(axial_depth_m), rotation_rad,
+      [&](double width, const Eigen::Matrix3d& projection, const Eigen::Vector3d& normal) {
+        // Like the chip force with h replaced by the normal velocity
+        // v_n = nᵀ q'; the radial column of T is −n, so the
+        // indentation force opposes the motion into the part.
+        shape += width * (projection * split) * normal.transpose();
+      });
   return shape;
 }
 
 template <class Matrix3Of>
 CouplingSamples RegenerativeModel::sample_modal(Matrix3Of&& matrix_at, int steps,
                                                 int substeps) const {
-  if (steps < 1 || substeps < 1) throw std::invalid_argument("steps and substeps must be ≥ 1");
+  if (steps < 1 || substeps < 1)
+    throw std::invalid_argument("steps and substeps must be ≥ 1");
   const double period_rad = 2.0 * std::numbers::pi / tool_.teeth();
   const double step_rad = period_rad / steps;
   auto modal = [&](double angle) -> Eigen::MatrixXd {
@@ -135,7 +137,8 @@ CouplingSamples RegenerativeModel::sample_modal(Matrix3Of&& matrix_at, int steps
   // discretization at low immersion; window means converge smoothly.
   auto window_mean = [&](double start_step) {
     Eigen::MatrixXd mean = Eigen::MatrixXd::Zero(modes_.size(), modes_.size());
-    for (int s = 0; s < substeps; ++s) mean += modal((start_step + (s + 0.5) / substeps) * step_rad);
+    for (int s = 0; s < substeps; ++s)
+      mean += modal((start_step + (s + 0.5) / substeps) * step_rad);
     return Eigen::MatrixXd(mean / substeps);
   };
   samples.average = Eigen::MatrixXd::Zero(modes_.size(), modes_.size());
@@ -143,7 +146,8 @@ CouplingSamples RegenerativeModel::sample_modal(Matrix3Of&& matrix_at, int steps
     samples.means.push_back(window_mean(k));
     samples.average += samples.means.back() / steps;
   }
-  for (int k = 0; k <= steps; ++k) samples.nodes.push_back(window_mean(k - 0.5));
+  for (int k = 0; k <= steps; ++k)
+    samples.nodes.push_back(window_mean(k - 0.5));
   return samples;
 }
 
@@ -154,9 +158,8 @@ CouplingSamples RegenerativeModel::sample(double axial_depth_m, int steps, int s
 
 CouplingSamples RegenerativeModel::sample_damping(double axial_depth_m, int steps, double friction,
                                                   int substeps) const {
-  return sample_modal(
-      [&](double angle) { return damping_shape(angle, axial_depth_m, friction); }, steps,
-      substeps);
+  return sample_modal([&](double angle) { return damping_shape(angle, axial_depth_m, friction); },
+                      steps, substeps);
 }
 
 }  // namespace robomill::stability

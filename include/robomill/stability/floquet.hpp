@@ -54,16 +54,17 @@ class FloquetSolver {
 
   /// Spectral radius of the monodromy matrix for coupling samples scaled by
   /// `scale` (the depth, when the samples are per unit depth). `damping`
-  /// (optional) holds Cp(t) samples in the same layout as `coupling`.
+  /// (optional) holds samples of the extra modal damping C(t) (the equation
+  /// reads η'' + 2ζΩη' + Ω²η = P (η − η_τ) − C η'), scaled by `damping_scale`.
   FloquetResult solve(const CouplingSamples& coupling, double scale,
-                      const CouplingSamples* damping = nullptr);
+                      const CouplingSamples* damping = nullptr, double damping_scale = 1.0);
 
   int state_size() const noexcept { return state_size_; }
   FloquetMethod method() const noexcept { return method_; }
 
  private:
   void sdm_step_matrices(const Eigen::MatrixXd& mean_coupling, const Eigen::MatrixXd* mean_damping,
-                         double scale);
+                         double scale, double damping_scale);
 
   FloquetMethod method_;
   int modes_;

@@ -4,6 +4,7 @@
 // radius over a speed x depth grid (map mode). Speeds are independent work
 // items and run in parallel, one Floquet workspace per thread.
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -12,13 +13,22 @@
 
 namespace robomill::stability {
 
+/// Ahmadi's linear-equivalent process damping inside the time-domain methods
+/// (000 Eq 18-19): C_eq = K_sp w² dz / (4 v), v = R Ω.
+struct LinearProcessDamping {
+  double indentation_n_per_m3 = 1.5e14;  ///< K_sp
+  double wear_land_m = 40e-6;            ///< w
+  double friction = 0.3;                 ///< μ
+};
+
 struct LobeOptions {
   FloquetMethod method = FloquetMethod::fdm;
-  int steps = 40;                  ///< discretization: steps per tooth period
-  double depth_max_m = 0.0;        ///< search range (0, depth_max]
-  double depth_tolerance = 1e-3;   ///< relative width of the final bracket
-  int coarse_points = 24;          ///< scan points before refinement (finds islands ≥ depth_max/24)
-  int threads = 0;                 ///< 0: all cores
+  int steps = 40;                 ///< discretization: steps per tooth period
+  double depth_max_m = 0.0;       ///< search range (0, depth_max]
+  double depth_tolerance = 1e-3;  ///< relative width of the final bracket
+  int coarse_points = 24;  ///< scan points before refinement (finds islands ≥ depth_max/24)
+  int threads = 0;         ///< 0: all cores
+  std::optional<LinearProcessDamping> process_damping;  ///< none by default
 };
 
 /// One point of the stability boundary.
