@@ -49,10 +49,10 @@ FloquetSolver::FloquetSolver(FloquetMethod method, const ModalDynamics& dynamics
           .asDiagonal();
   monodromy_.resize(state_size_, state_size_);
   psi_.resize(state_size_, state_size_);
-  eigen_ = Eigen::EigenSolver<Eigen::MatrixXd>(state_size_);
   rows_x_.resize(2 * n, state_size_);
   rows_x_prev_.resize(n, state_size_);
   new_rows_.resize(2 * n, state_size_);
+  solved_rows_.resize(2 * n, state_size_);
   lhs_.resize(2 * n, 2 * n);
   rhs_block_.resize(2 * n, 2 * n);
 }
@@ -173,7 +173,9 @@ FloquetResult FloquetSolver::solve(const CouplingSamples& coupling, double scale
         lhs_.rightCols(n).noalias() += damping_scale * phi_next_.rightCols(n) *
                                        damping->nodes[static_cast<std::size_t>(k + 1)];
       }
-      new_rows_ = lhs_.partialPivLu().solve(new_rows_);
+      lu_.compute(lhs_);
+      solved_rows_.noalias() = lu_.solve(new_rows_);
+      new_rows_.swap(solved_rows_);
     }
     // Shift: η_k enters the history, η_{k−m} leaves (its block is reused).
     head = (head + m - 1) % m;

@@ -24,6 +24,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
+#include <Eigen/LU>
 #include <complex>
 
 #include "robomill/stability/regenerative_model.hpp"
@@ -76,10 +77,13 @@ class FloquetSolver {
   Eigen::MatrixXd phi0_, phi_prev_, phi_now_, phi_next_;  // e^{A0 h}, weights of nodes k−1, k, k+1
   Eigen::MatrixXd delay_now_, delay_next_;                // linear weights for the delayed term
   // Workspace.
-  Eigen::MatrixXd monodromy_, rows_x_, rows_x_prev_, new_rows_, lhs_, rhs_block_;
+  Eigen::MatrixXd monodromy_, rows_x_, rows_x_prev_, new_rows_, solved_rows_, lhs_, rhs_block_;
+  // Default-constructed: the first compute() sizes their storage, later ones
+  // of the same size reuse it (no allocation per solve after the first).
+  Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
   Eigen::MatrixXd sdm_exp_, sdm_delay_a_, sdm_delay_b_;
-  Eigen::MatrixXd psi_;                        // the monodromy matrix in logical order
-  Eigen::EigenSolver<Eigen::MatrixXd> eigen_;  // preallocated for state_size_
+  Eigen::MatrixXd psi_;  // the monodromy matrix in logical order
+  Eigen::EigenSolver<Eigen::MatrixXd> eigen_;
 };
 
 /// Chatter frequency from a critical multiplier μ: f = (arg μ/2π + k)/τ, with
