@@ -56,7 +56,8 @@ void BM_BenchmarkBoundary(benchmark::State& state) {
   for (auto _ : state) {
     const auto points = stability::stability_boundary(model, speeds, options);
     evaluations = 0;
-    for (const auto& p : points) evaluations += p.evaluations;
+    for (const auto& p : points)
+      evaluations += p.evaluations;
     benchmark::DoNotOptimize(points);
   }
   state.counters["floquet_solves"] = evaluations;
@@ -64,5 +65,51 @@ void BM_BenchmarkBoundary(benchmark::State& state) {
       200.0 * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_BenchmarkBoundary)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace
+
+namespace {
+
+// Where the time of one Floquet solve goes: building the monodromy matrix
+// (m steps of 2n-row updates) versus its dense eigenvalues (Hessenberg
+// reduction ≈ 10/3 D³ flops plus Francis QR ≈ 10 D³ flops, D = 2n + m n).
+void BM_MonodromyBuild(benchmark::State& state) {
+  const auto model = test::benchmark_1dof(0.05);
+  const auto samples = model.sample(1.0, 40);
+  stability::FloquetSolver solver(stability::FloquetMethod::fdm,
+                                  {model.modes().natural_rad_s(), model.modes().damping_ratios()},
+                                  40);
+  solver.set_delay(60.0 / (2.0 * 10000.0));
+  double depth = 1e-3;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(solver.monodromy(samples, depth).data());
+    depth += 1e-9;
+  }
+  // Per step: (2n x 2n)(2n x D) + 2 (2n x n)(n x D) multiply-adds, n = 1, D = 42.
+  const double flops = 40.0 * 2.0 * (4.0 * 42 + 2.0 * 2.0 * 42);
+  state.counters["GFLOP_per_s"] = benchmark::Counter(
+      flops * 1e-9 * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_MonodromyBuild);
+
+void BM_MonodromyEigenvalues(benchmark::State& state) {
+  const auto model = test::benchmark_1dof(0.05);
+  const auto samples = model.sample(1.0, 40);
+  stability::FloquetSolver solver(stability::FloquetMethod::fdm,
+                                  {model.modes().natural_rad_s(), model.modes().damping_ratios()},
+                                  40);
+  solver.set_delay(60.0 / (2.0 * 10000.0));
+  const Eigen::MatrixXd psi = solver.monodromy(samples, 1e-3);
+  Eigen::EigenSolver<Eigen::MatrixXd> eigen;
+  for (auto _ : state) {
+    eigen.compute(psi, false);
+    benchmark::DoNotOptimize(eigen.eigenvalues().data());
+  }
+  const double d = static_cast<double>(psi.rows());
+  const double flops = (10.0 / 3.0 + 10.0) * d * d * d;  // textbook estimate
+  state.counters["GFLOP_per_s"] = benchmark::Counter(
+      flops * 1e-9 * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_MonodromyEigenvalues);
 
 }  // namespace

@@ -99,6 +99,22 @@ void FloquetSolver::sdm_step_matrices(const Eigen::MatrixXd& mean_coupling,
 
 FloquetResult FloquetSolver::solve(const CouplingSamples& coupling, double scale,
                                    const CouplingSamples* damping, double damping_scale) {
+  const Eigen::MatrixXd& psi = monodromy(coupling, scale, damping, damping_scale);
+  eigen_.compute(psi, /*computeEigenvectors=*/false);
+  FloquetResult result;
+  const auto& values = eigen_.eigenvalues();
+  for (Eigen::Index i = 0; i < values.size(); ++i) {
+    if (std::abs(values[i]) > result.spectral_radius) {
+      result.spectral_radius = std::abs(values[i]);
+      result.critical_multiplier = values[i];
+    }
+  }
+  return result;
+}
+
+const Eigen::MatrixXd& FloquetSolver::monodromy(const CouplingSamples& coupling, double scale,
+                                                const CouplingSamples* damping,
+                                                double damping_scale) {
   if (delay_s_ <= 0.0)
     throw std::logic_error("FloquetSolver::set_delay must be called first");
   if (static_cast<int>(coupling.means.size()) != steps_ ||
@@ -192,17 +208,7 @@ FloquetResult FloquetSolver::solve(const CouplingSamples& coupling, double scale
     psi.middleRows(history_offset + j * n, n) = history_rows(j);
   if (method_ == FloquetMethod::fdm2)
     psi.middleRows(velocity_offset, n) = rows_x_prev_;
-
-  eigen_.compute(psi, /*computeEigenvectors=*/false);
-  FloquetResult result;
-  const auto& values = eigen_.eigenvalues();
-  for (Eigen::Index i = 0; i < values.size(); ++i) {
-    if (std::abs(values[i]) > result.spectral_radius) {
-      result.spectral_radius = std::abs(values[i]);
-      result.critical_multiplier = values[i];
-    }
-  }
-  return result;
+  return psi;
 }
 
 double chatter_frequency_hz(std::complex<double> multiplier, double delay_s,

@@ -60,6 +60,12 @@ class FloquetSolver {
   FloquetResult solve(const CouplingSamples& coupling, double scale,
                       const CouplingSamples* damping = nullptr, double damping_scale = 1.0);
 
+  /// The monodromy matrix itself (state_size² entries), as solve() builds it;
+  /// valid until the next call.
+  const Eigen::MatrixXd& monodromy(const CouplingSamples& coupling, double scale,
+                                   const CouplingSamples* damping = nullptr,
+                                   double damping_scale = 1.0);
+
   int state_size() const noexcept { return state_size_; }
   FloquetMethod method() const noexcept { return method_; }
 
