@@ -47,8 +47,7 @@ FloquetSolver::FloquetSolver(FloquetMethod method, const ModalDynamics& dynamics
       (-2.0 * dynamics.damping_ratio.array() * dynamics.natural_rad_s.array())
           .matrix()
           .asDiagonal();
-  monodromy_.resize(state_size_, state_size_);
-  psi_.resize(state_size_, state_size_);
+  active_slots_.reserve(static_cast<std::size_t>(steps_));
   rows_x_.resize(2 * n, state_size_);
   rows_x_prev_.resize(n, state_size_);
   new_rows_.resize(2 * n, state_size_);
@@ -123,25 +122,59 @@ const Eigen::MatrixXd& FloquetSolver::monodromy(const CouplingSamples& coupling,
   }
   const int n = modes_;
   const int m = steps_;
-  const int history_offset = 2 * n;
-  const int velocity_offset = 2 * n + m * n;  // FDM2 only: η'_{k−1}
+  const bool fdm2 = method_ == FloquetMethod::fdm2;
 
-  // Initial augmented state = identity: rows_x_ holds x_0, history block j
-  // (logical η_{−1−j}) lives at physical block (head + j) mod m.
-  monodromy_.setIdentity();  // used as the history buffer (rows 2n … 2n + mn)
-  rows_x_ = monodromy_.topRows(2 * n);
-  if (method_ == FloquetMethod::fdm2)
-    rows_x_prev_ = monodromy_.middleRows(velocity_offset, n);
+  // Delayed position η_{−1−j} (history slot j) acts only through the coupling
+  // of the steps that read it: node m−1−j for the full discretization, the
+  // step means m−1−j and m−2−j for the semi-discretization. A slot whose
+  // coupling is zero (the tooth is out of the cut) is a zero column of the
+  // monodromy matrix, i.e. a zero multiplier: leaving those slots out of the
+  // state keeps every non-zero multiplier and shrinks the eigenproblem (to a
+  // few slots at low radial immersion).
+  active_slots_.clear();
+  for (int j = 0; j < m; ++j) {
+    bool active;
+    if (method_ == FloquetMethod::sdm) {
+      active = !coupling.means[static_cast<std::size_t>(m - 1 - j)].isZero(0.0) ||
+               (m - 2 - j >= 0 && !coupling.means[static_cast<std::size_t>(m - 2 - j)].isZero(0.0));
+    } else {
+      active = !coupling.nodes[static_cast<std::size_t>(m - 1 - j)].isZero(0.0) ||
+               (j == m - 1 && !coupling.nodes[static_cast<std::size_t>(m)].isZero(0.0));
+    }
+    // FDM2's parabola reads η_{k−1} (slot 0) at every step.
+    if (active || (fdm2 && j == 0))
+      active_slots_.push_back(j);
+  }
+  const int slot_count = static_cast<int>(active_slots_.size());
+  const int columns = 2 * n + (fdm2 ? n : 0) + slot_count * n;
+  const int history_column = 2 * n + (fdm2 ? n : 0);
+
+  // Initial state = identity over the kept components: x_0, (η'_{−1}), and
+  // the active history slots. history_ holds slot j (η_{−1−j}) at physical
+  // block (head + j) mod m.
+  rows_x_.setZero(2 * n, columns);
+  rows_x_.leftCols(2 * n).setIdentity();
+  history_.setZero(m * n, columns);
+  for (int a = 0; a < slot_count; ++a) {
+    history_.block(active_slots_[static_cast<std::size_t>(a)] * n, history_column + a * n, n, n)
+        .setIdentity();
+  }
+  if (fdm2) {
+    rows_x_prev_.setZero(n, columns);
+    rows_x_prev_.middleCols(2 * n, n).setIdentity();
+  }
+  new_rows_.resize(2 * n, columns);
+  solved_rows_.resize(2 * n, columns);
   int head = 0;
   auto history_rows = [&](int logical) {
     const int physical = (head + logical) % m;
-    return monodromy_.middleRows(history_offset + physical * n, n);
+    return history_.middleRows(physical * n, n);
   };
 
   for (int k = 0; k < m; ++k) {
     const Eigen::MatrixXd& p_now = coupling.nodes[static_cast<std::size_t>(k)];
     const Eigen::MatrixXd& p_next = coupling.nodes[static_cast<std::size_t>(k + 1)];
-    // Delayed positions: η_{k−m} (logical m−1) and η_{k+1−m} (logical m−2, or η_k when m = 1).
+    // Delayed positions: η_{k−m} (slot m−1) and η_{k+1−m} (slot m−2, or η_k when m = 1).
     const auto delayed_old = history_rows(m - 1);
     if (method_ == FloquetMethod::sdm) {
       const Eigen::MatrixXd* mean_damping =
@@ -166,7 +199,7 @@ const Eigen::MatrixXd& FloquetSolver::monodromy(const CouplingSamples& coupling,
             damping_scale * phi_now_.rightCols(n) * damping->nodes[static_cast<std::size_t>(k)];
       }
       new_rows_.noalias() = rhs_block_ * rows_x_;
-      if (method_ == FloquetMethod::fdm2) {
+      if (fdm2) {
         const int previous = (k + m - 1) % m;  // node k−1, periodic
         const auto eta_prev = history_rows(0);
         new_rows_.noalias() += scale * phi_prev_.rightCols(n) *
@@ -196,19 +229,21 @@ const Eigen::MatrixXd& FloquetSolver::monodromy(const CouplingSamples& coupling,
     // Shift: η_k enters the history, η_{k−m} leaves (its block is reused).
     head = (head + m - 1) % m;
     history_rows(0) = rows_x_.topRows(n);
-    if (method_ == FloquetMethod::fdm2)
+    if (fdm2)
       rows_x_prev_ = rows_x_.bottomRows(n);
     rows_x_.swap(new_rows_);
   }
 
-  // Assemble z_m = Ψ z_0 in logical order.
-  Eigen::MatrixXd& psi = psi_;
-  psi.topRows(2 * n) = rows_x_;
-  for (int j = 0; j < m; ++j)
-    psi.middleRows(history_offset + j * n, n) = history_rows(j);
-  if (method_ == FloquetMethod::fdm2)
-    psi.middleRows(velocity_offset, n) = rows_x_prev_;
-  return psi;
+  // Ψ restricted to the kept components, rows in the order of the columns.
+  psi_.resize(columns, columns);
+  psi_.topRows(2 * n) = rows_x_;
+  if (fdm2)
+    psi_.middleRows(2 * n, n) = rows_x_prev_;
+  for (int a = 0; a < slot_count; ++a) {
+    psi_.middleRows(history_column + a * n, n) =
+        history_rows(active_slots_[static_cast<std::size_t>(a)]);
+  }
+  return psi_;
 }
 
 double chatter_frequency_hz(std::complex<double> multiplier, double delay_s,

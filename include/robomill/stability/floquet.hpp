@@ -26,6 +26,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <complex>
+#include <vector>
 
 #include "robomill/stability/regenerative_model.hpp"
 
@@ -60,8 +61,10 @@ class FloquetSolver {
   FloquetResult solve(const CouplingSamples& coupling, double scale,
                       const CouplingSamples* damping = nullptr, double damping_scale = 1.0);
 
-  /// The monodromy matrix itself (state_size² entries), as solve() builds it;
-  /// valid until the next call.
+  /// The monodromy matrix restricted to the components that carry non-zero
+  /// multipliers (the state x, and the delayed positions some step actually
+  /// reads), as solve() builds it; valid until the next call. Its size is at
+  /// most state_size().
   const Eigen::MatrixXd& monodromy(const CouplingSamples& coupling, double scale,
                                    const CouplingSamples* damping = nullptr,
                                    double damping_scale = 1.0);
@@ -83,7 +86,8 @@ class FloquetSolver {
   Eigen::MatrixXd phi0_, phi_prev_, phi_now_, phi_next_;  // e^{A0 h}, weights of nodes k−1, k, k+1
   Eigen::MatrixXd delay_now_, delay_next_;                // linear weights for the delayed term
   // Workspace.
-  Eigen::MatrixXd monodromy_, rows_x_, rows_x_prev_, new_rows_, solved_rows_, lhs_, rhs_block_;
+  Eigen::MatrixXd history_, rows_x_, rows_x_prev_, new_rows_, solved_rows_, lhs_, rhs_block_;
+  std::vector<int> active_slots_;  // history slots whose delayed position is read
   // Default-constructed: the first compute() sizes their storage, later ones
   // of the same size reuse it (no allocation per solve after the first).
   Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
