@@ -36,16 +36,6 @@ struct Limit {
   int mode = -1;  ///< governing mode of an envelope, −1 for a coupled diagram
 };
 
-dynamics::ModalModel modal_model(const io::Job& job) {
-  std::vector<dynamics::Mode> modes;
-  for (const io::ModeSpec& spec : job.modes) {
-    const int axis = spec.direction == 'x' ? 0 : spec.direction == 'y' ? 1 : 2;
-    modes.push_back(dynamics::directional_mode(axis, spec.natural_frequency_hz, spec.damping_ratio,
-                                               spec.stiffness_n_per_m));
-  }
-  return dynamics::ModalModel(std::move(modes));
-}
-
 stability::FloquetMethod floquet_method(Settings::Method method) {
   switch (method) {
     case Settings::Method::sdm:
@@ -239,7 +229,7 @@ int run_stability(const JobCommandOptions& options) {
   }
 
   const auto start = std::chrono::steady_clock::now();
-  const dynamics::ModalModel modes = modal_model(job);
+  const dynamics::ModalModel modes = io::modal_model(job);
   const stability::RegenerativeModel model(tool::Tool(*job.tool), *job.cutting, *job.process,
                                            modes);
   const std::vector<double> speeds = stability::linear_range(

@@ -133,4 +133,17 @@ void require(const Job& job, std::initializer_list<Section> sections) {
   }
 }
 
+dynamics::ModalModel modal_model(const Job& job) {
+  if (job.modes.empty())
+    throw InputError("dynamics.modes", 0, "no modes in the job");
+  std::vector<dynamics::Mode> modes;
+  modes.reserve(job.modes.size());
+  for (const ModeSpec& spec : job.modes) {
+    const int axis = spec.direction == 'x' ? 0 : spec.direction == 'y' ? 1 : 2;
+    modes.push_back(dynamics::directional_mode(axis, spec.natural_frequency_hz, spec.damping_ratio,
+                                               spec.stiffness_n_per_m));
+  }
+  return dynamics::ModalModel(std::move(modes));
+}
+
 }  // namespace robomill::io

@@ -37,14 +37,8 @@ TEST(Paper003, RobotModesGovernLowSpeedsAndTheToolModeHighSpeeds) {
   const io::Job job =
       io::load_job(std::string(ROBOMILL_SOURCE_DIR) + "/examples/003_kr270_process_damping.yaml",
                    {{"process.ae", "6 mm"}});
-  std::vector<dynamics::Mode> modes;
-  for (const io::ModeSpec& spec : job.modes) {
-    modes.push_back(dynamics::directional_mode(spec.direction == 'x' ? 0 : 1,
-                                               spec.natural_frequency_hz, spec.damping_ratio,
-                                               spec.stiffness_n_per_m));
-  }
   const stability::RegenerativeModel model(tool::Tool(*job.tool), *job.cutting, *job.process,
-                                           dynamics::ModalModel(modes));
+                                           io::modal_model(job));
   stability::ProcessDamping damping;
   damping.model = stability::ProcessDampingModel::energy_balance;
   damping.indentation_n_per_m3 = job.stability->indentation_n_per_m3;

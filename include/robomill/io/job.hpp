@@ -9,6 +9,7 @@
 
 #include "robomill/cutting/cutting_law.hpp"
 #include "robomill/cutting/process.hpp"
+#include "robomill/dynamics/modal_model.hpp"
 #include "robomill/tool/tool.hpp"
 
 namespace robomill::io {
@@ -103,6 +104,10 @@ Job load_job(const std::filesystem::path& file, const std::vector<Override>& ove
 /// (see fuzz/README.md for why).
 Job parse_job(std::string_view yaml_text, const std::filesystem::path& source_name,
               const std::vector<Override>& overrides = {});
+
+/// The job's `dynamics.modes` as a modal model (each mode along its axis with
+/// its modal stiffness). Throws InputError naming `dynamics.modes` when empty.
+dynamics::ModalModel modal_model(const Job& job);
 
 /// Sections a command needs; throws InputError naming the first missing one.
 enum class Section { tool, cutting, process, modes, stability };
