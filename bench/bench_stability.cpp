@@ -73,13 +73,20 @@ namespace {
 // Where the time of one Floquet solve goes: building the monodromy matrix
 // (m steps of 2n-row updates) versus its dense eigenvalues (Hessenberg
 // reduction ≈ 10/3 D³ flops plus Francis QR ≈ 10 D³ flops, D = 2n + m n).
-void BM_MonodromyBuild(benchmark::State& state) {
-  const auto model = test::benchmark_1dof(0.05);
-  const auto samples = model.sample(1.0, 40);
-  stability::FloquetSolver solver(stability::FloquetMethod::fdm,
+// The benchmark at a/D = 0.05, 10 000 rpm, FDM with m = 40: a solver ready
+// to build monodromy matrices from per-unit-depth coupling samples.
+struct MonodromyCase {
+  stability::RegenerativeModel model = test::benchmark_1dof(0.05);
+  stability::CouplingSamples samples = model.sample(1.0, 40);
+  stability::FloquetSolver solver{stability::FloquetMethod::fdm,
                                   {model.modes().natural_rad_s(), model.modes().damping_ratios()},
-                                  40);
-  solver.set_delay(60.0 / (2.0 * 10000.0));
+                                  40};
+  MonodromyCase() { solver.set_delay(60.0 / (2.0 * 10000.0)); }
+};
+
+void BM_MonodromyBuild(benchmark::State& state) {
+  MonodromyCase c;
+  auto& [model, samples, solver] = c;
   double depth = 1e-3;
   double columns = 0.0;
   for (auto _ : state) {
@@ -98,12 +105,8 @@ void BM_MonodromyBuild(benchmark::State& state) {
 BENCHMARK(BM_MonodromyBuild);
 
 void BM_MonodromyEigenvalues(benchmark::State& state) {
-  const auto model = test::benchmark_1dof(0.05);
-  const auto samples = model.sample(1.0, 40);
-  stability::FloquetSolver solver(stability::FloquetMethod::fdm,
-                                  {model.modes().natural_rad_s(), model.modes().damping_ratios()},
-                                  40);
-  solver.set_delay(60.0 / (2.0 * 10000.0));
+  MonodromyCase c;
+  auto& [model, samples, solver] = c;
   const Eigen::MatrixXd psi = solver.monodromy(samples, 1e-3);
   Eigen::EigenSolver<Eigen::MatrixXd> eigen;
   for (auto _ : state) {
