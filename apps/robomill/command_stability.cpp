@@ -239,6 +239,7 @@ int run_stability(const JobCommandOptions& options) {
   lobe_options.steps = settings.discretization;
   lobe_options.depth_max_m = settings.depth_max_m;
   lobe_options.depth_tolerance = settings.depth_tolerance;
+  lobe_options.continuation = settings.continuation;
   lobe_options.threads = options.threads;
   if (settings.process_damping == Settings::Damping::linear_equivalent) {
     lobe_options.process_damping = stability::LinearProcessDamping{
@@ -280,6 +281,7 @@ int run_stability(const JobCommandOptions& options) {
         {"count", settings.speed_count}}},
       {"depth_max_mm", settings.depth_max_m * 1e3},
       {"depth_tolerance", settings.depth_tolerance},
+      {"continuation", settings.continuation},
       {"modes", settings.modes == Settings::Modes::coupled    ? "coupled"
                 : settings.modes == Settings::Modes::envelope ? "envelope"
                                                               : "both"},

@@ -1001,7 +1001,7 @@ std::optional<StabilitySettings> read_stability(SectionReader& root,
     return std::nullopt;
   SectionReader& r = *section;
   r.allow({"method", "mode", "modes", "speeds", "depth_max", "depths", "depth_tolerance",
-           "discretization", "process_damping"},
+           "discretization", "continuation", "process_damping"},
           {"deformation"}, "unknown key (not supported by this version of robomill)");
   using Settings = StabilitySettings;
   Settings settings;
@@ -1065,6 +1065,7 @@ std::optional<StabilitySettings> read_stability(SectionReader& root,
   settings.depth_tolerance = r.quantity_or(
       "depth_tolerance", dimensionless(kPositive, Bound{0.1, true}), settings.depth_tolerance);
   settings.discretization = r.integer_or("discretization", 4, 10000, settings.discretization);
+  settings.continuation = r.boolean_or("continuation", settings.continuation);
 
   if (auto damping = r.section("process_damping")) {
     damping->allow({"model", "Ksp", "wear_land", "mu"});

@@ -248,20 +248,26 @@ const Eigen::MatrixXd& FloquetSolver::monodromy(const CouplingSamples& coupling,
 
 double chatter_frequency_hz(std::complex<double> multiplier, double delay_s,
                             const dynamics::ModalModel& modes) {
-  const double base = std::arg(multiplier) / (2.0 * std::numbers::pi);  // (−0.5, 0.5]
+  // μ = exp(iωτ) fixes ω only modulo the tooth-passing frequency, and a real
+  // vibration carries the multiplier and its conjugate, so the candidates are
+  // (n ± |arg μ|/2π)/τ for n = 0, 1, 2, …; the one where the structure is most
+  // flexible dominates the vibration.
+  const double base = std::abs(std::arg(multiplier)) / (2.0 * std::numbers::pi);  // [0, 0.5]
   const double tooth_hz = 1.0 / delay_s;
   const double highest = 1.5 * modes.highest_frequency_hz();
-  double best_hz = std::abs(base) * tooth_hz;
+  double best_hz = base * tooth_hz;
   double best_flexibility = -1.0;
-  for (int k = -1; (k + base) * tooth_hz <= highest || k < 2; ++k) {
-    const double candidate = std::abs((k + base) * tooth_hz);
-    if (candidate <= 0.0)
-      continue;
-    const double flexibility =
-        modes.receptance(2.0 * std::numbers::pi * candidate).cwiseAbs().maxCoeff();
-    if (flexibility > best_flexibility) {
-      best_flexibility = flexibility;
-      best_hz = candidate;
+  for (int n = 0; (n - base) * tooth_hz <= highest || n < 2; ++n) {
+    for (const double cycles : {n + base, n + 1 - base}) {
+      const double candidate = cycles * tooth_hz;
+      if (candidate <= 0.0)
+        continue;
+      const double flexibility =
+          modes.receptance(2.0 * std::numbers::pi * candidate).cwiseAbs().maxCoeff();
+      if (flexibility > best_flexibility) {
+        best_flexibility = flexibility;
+        best_hz = candidate;
+      }
     }
   }
   return best_hz;

@@ -1,5 +1,7 @@
 #include "robomill/stability/lobes.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <numbers>
@@ -96,64 +98,154 @@ std::vector<double> linear_range(double from, double to, int count) {
   return values;
 }
 
+namespace {
+
+/// Speeds are searched in fixed chunks of this many, each chunk continuing
+/// from speed to speed; chunks, not threads, bound a continuation chain, so
+/// the limits do not depend on the thread count.
+constexpr std::size_t kContinuationChunk = 16;
+
+/// Predictor of the continuation: the limit at speed i extrapolated linearly
+/// from the two previous speeds of its chunk when both lie on the same kind of
+/// lobe, else the previous limit; 0 (no prediction) at a chunk's start or
+/// after an unlimited speed.
+double predicted_limit(const std::vector<LobePoint>& points, std::size_t i) {
+  if (i % kContinuationChunk == 0 || !points[i - 1].limited)
+    return 0.0;
+  const LobePoint& previous = points[i - 1];
+  if (i % kContinuationChunk == 1 || !points[i - 2].limited ||
+      points[i - 2].bifurcation != previous.bifurcation)
+    return previous.depth_limit_m;
+  const double extrapolated = 2.0 * previous.depth_limit_m - points[i - 2].depth_limit_m;
+  return extrapolated > 0.0 ? extrapolated : previous.depth_limit_m;
+}
+
+/// A depth with its Floquet result, for brackets.
+struct Probe {
+  double depth_m = 0.0;
+  FloquetResult result{};
+  bool unstable() const { return result.spectral_radius >= 1.0; }
+};
+
+/// The limit at one speed. `evaluate(depth)` is the Floquet solve; `hint` the
+/// previous speed's limit (0 when there is none).
+///  1. Continuation: with a predicted limit, probe it ∓ 0.45 × the tolerance.
+///     A stable lower and an unstable upper probe bracket the crossing to the
+///     tolerance already; otherwise they narrow the bracket of step 3.
+///  2. Islands: every coarse depth (depth_max·c/coarse_points) below the
+///     bracket is still checked, shallow first, so an unstable region that
+///     appears below the previous limit (a period-doubling island, the next
+///     lobe across a cusp) is found; the first unstable coarse depth then
+///     brackets the crossing instead.
+///  3. Root-finding on ρ(depth) − 1 in the bracket by the Illinois variant of
+///     regula falsi (superlinear where ρ is smooth, never worse than halving
+///     the bracket every few steps), to the relative depth tolerance.
+template <class Evaluate>
+void find_limit(Evaluate&& evaluate, double hint, double delay_s, const dynamics::ModalModel& modes,
+                const LobeOptions& options, LobePoint& point) {
+  // Probes just inside the final tolerance either side of the prediction: when
+  // they straddle the crossing the search is over in two solves.
+  const double window = 0.45 * options.depth_tolerance;
+  std::optional<Probe> unstable;
+  std::array<Probe, 2> continuation{};
+  int continued = 0;
+  // Step 1: continuation probes around the previous speed's limit.
+  if (hint > 0.0) {
+    for (const double depth : {hint * (1.0 - window), std::min(hint * (1.0 + window),
+                                                                options.depth_max_m)}) {
+      Probe probe{depth, evaluate(depth)};
+      if (probe.unstable()) {
+        unstable = probe;
+        break;
+      }
+      continuation[continued++] = probe;
+    }
+  }
+  // Step 2: coarse depths, shallow first, below the lowest unstable depth known.
+  Probe stable{0.0, {}};
+  for (int c = 1; c <= options.coarse_points; ++c) {
+    const double depth = options.depth_max_m * c / options.coarse_points;
+    if (unstable && depth >= unstable->depth_m)
+      break;
+    Probe probe{depth, evaluate(depth)};
+    if (probe.unstable()) {
+      unstable = probe;
+      break;
+    }
+    stable = probe;
+  }
+  if (!unstable) {
+    point.depth_limit_m = options.depth_max_m;
+    point.limited = false;
+    return;
+  }
+  // The deepest stable probe below the crossing is the bracket's stable end.
+  for (int i = 0; i < continued; ++i) {
+    if (continuation[i].depth_m < unstable->depth_m && continuation[i].depth_m > stable.depth_m)
+      stable = continuation[i];
+  }
+  // Step 3: Illinois regula falsi on g(depth) = ρ − 1, g(stable) < 0 ≤ g(unstable).
+  Probe& upper = *unstable;
+  double g_stable = stable.result.spectral_radius - 1.0;
+  double g_unstable = upper.result.spectral_radius - 1.0;
+  int side = 0;  // which end the last step kept: −1 stable, +1 unstable
+  while (upper.depth_m - stable.depth_m > options.depth_tolerance * upper.depth_m) {
+    double depth = (stable.depth_m * g_unstable - upper.depth_m * g_stable) /
+                   (g_unstable - g_stable);
+    const double width = upper.depth_m - stable.depth_m;
+    // Keep the new point strictly inside, away from the ends by a small share.
+    depth = std::clamp(depth, stable.depth_m + 0.01 * width, upper.depth_m - 0.01 * width);
+    const Probe probe{depth, evaluate(depth)};
+    if (probe.unstable()) {
+      upper = probe;
+      g_unstable = probe.result.spectral_radius - 1.0;
+      if (side == +1)
+        g_stable *= 0.5;  // the stable end stayed twice: Illinois step
+      side = +1;
+    } else {
+      stable = probe;
+      g_stable = probe.result.spectral_radius - 1.0;
+      if (side == -1)
+        g_unstable *= 0.5;
+      side = -1;
+    }
+  }
+  point.depth_limit_m = 0.5 * (stable.depth_m + upper.depth_m);
+  point.limited = true;
+  point.chatter_frequency_hz =
+      chatter_frequency_hz(upper.result.critical_multiplier, delay_s, modes);
+  point.bifurcation = bifurcation_name(upper.result.critical_multiplier);
+}
+
+}  // namespace
+
 std::vector<LobePoint> stability_boundary(const RegenerativeModel& model,
                                           const std::vector<double>& spindle_rad_s,
                                           const LobeOptions& options) {
   check(options, model);
   std::vector<LobePoint> points(spindle_rad_s.size());
-  core::parallel_blocks(
-      spindle_rad_s.size(), options.threads, [&](std::size_t begin, std::size_t end) {
-        FloquetSolver solver(options.method, modal_dynamics(model), options.steps);
-        CouplingCache cache(model, options.steps, options.process_damping);
-        for (std::size_t i = begin; i < end; ++i) {
-          LobePoint& point = points[i];
-          const double factor = damping_factor(model, options.process_damping, spindle_rad_s[i]);
-          point.spindle_rad_s = spindle_rad_s[i];
-          const double delay = tooth_period_s(model, spindle_rad_s[i]);
-          solver.set_delay(delay);
-          auto evaluate = [&](double depth) {
-            ++point.evaluations;
-            const auto [entry, scale] = cache.at(depth);
-            return options.process_damping
-                       ? solver.solve(entry->coupling, scale, &entry->damping, factor * scale)
-                       : solver.solve(entry->coupling, scale);
-          };
-          // Coarse scan from the shallow end: the first unstable depth brackets
-          // the boundary (islands narrower than a scan step can be missed).
-          double stable_depth = 0.0, unstable_depth = 0.0;
-          FloquetResult unstable_result;
-          for (int c = 1; c <= options.coarse_points; ++c) {
-            const double depth = options.depth_max_m * c / options.coarse_points;
-            const FloquetResult result = evaluate(depth);
-            if (result.spectral_radius >= 1.0) {
-              unstable_depth = depth;
-              unstable_result = result;
-              break;
-            }
-            stable_depth = depth;
-          }
-          if (unstable_depth == 0.0) {
-            point.depth_limit_m = options.depth_max_m;
-            point.limited = false;
-            continue;
-          }
-          while (unstable_depth - stable_depth > options.depth_tolerance * unstable_depth) {
-            const double middle = 0.5 * (stable_depth + unstable_depth);
-            const FloquetResult result = evaluate(middle);
-            if (result.spectral_radius >= 1.0) {
-              unstable_depth = middle;
-              unstable_result = result;
-            } else {
-              stable_depth = middle;
-            }
-          }
-          point.depth_limit_m = 0.5 * (stable_depth + unstable_depth);
-          point.limited = true;
-          point.chatter_frequency_hz =
-              chatter_frequency_hz(unstable_result.critical_multiplier, delay, model.modes());
-          point.bifurcation = bifurcation_name(unstable_result.critical_multiplier);
-        }
-      });
+  const std::size_t chunks = (spindle_rad_s.size() + kContinuationChunk - 1) / kContinuationChunk;
+  core::parallel_blocks(chunks, options.threads, [&](std::size_t first, std::size_t last) {
+    FloquetSolver solver(options.method, modal_dynamics(model), options.steps);
+    CouplingCache cache(model, options.steps, options.process_damping);
+    for (std::size_t i = first * kContinuationChunk;
+         i < std::min(last * kContinuationChunk, spindle_rad_s.size()); ++i) {
+      LobePoint& point = points[i];
+      const double factor = damping_factor(model, options.process_damping, spindle_rad_s[i]);
+      point.spindle_rad_s = spindle_rad_s[i];
+      const double delay = tooth_period_s(model, spindle_rad_s[i]);
+      solver.set_delay(delay);
+      auto evaluate = [&](double depth) {
+        ++point.evaluations;
+        const auto [entry, scale] = cache.at(depth);
+        return options.process_damping
+                   ? solver.solve(entry->coupling, scale, &entry->damping, factor * scale)
+                   : solver.solve(entry->coupling, scale);
+      };
+      find_limit(evaluate, options.continuation ? predicted_limit(points, i) : 0.0, delay,
+                 model.modes(), options, point);
+    }
+  });
   return points;
 }
 

@@ -14,6 +14,21 @@ namespace {
 using namespace robomill;
 using stability::FloquetMethod;
 
+// A multiplier fixes the chatter frequency only modulo the tooth-passing
+// frequency and up to its conjugate: at 535 Hz tooth passing, arg μ = 2π·137/535
+// is the vibration at 137, 398, 672, 933, 1207 Hz …; a 922 Hz mode picks 933 Hz,
+// which comes from the conjugate (2·535 − 137).
+TEST(Floquet, ChatterFrequencyConsidersTheConjugateMultiplier) {
+  const dynamics::ModalModel modes({dynamics::directional_mode(0, 922.0, 0.011, 1.34e6)});
+  const double tooth_hz = 535.0;
+  for (const double sign : {1.0, -1.0}) {
+    const auto multiplier = std::polar(1.0, sign * 2.0 * std::numbers::pi * 137.0 / tooth_hz);
+    EXPECT_NEAR(stability::chatter_frequency_hz(multiplier, 1.0 / tooth_hz, modes), 933.0, 1e-9);
+  }
+  // Period doubling: odd multiples of half the tooth-passing frequency.
+  EXPECT_NEAR(stability::chatter_frequency_hz({-1.0, 0.0}, 1.0 / 700.0, modes), 1050.0, 1e-9);
+}
+
 TEST(Floquet, FreeVibrationDecaysByTheStructuralDamping) {
   // With no cut (depth 0) the multipliers are e^{(−ζ ± i√(1−ζ²)) ωn τ}: the
   // spectral radius is e^{−ζ ωn τ} exactly for every method.

@@ -50,6 +50,7 @@ struct StabilitySettings {
   double depth_max_m = 0.0;       ///< `depth_max` (mm): upper end of the depth search / map
   int depth_count = 100;          ///< `depths`: map rows (map mode)
   double depth_tolerance = 1e-3;  ///< `depth_tolerance`: relative precision of each limit
+  bool continuation = false;      ///< `continuation`: start from the extrapolated limit
   int discretization = 40;        ///< `discretization`: steps per tooth period (SDM/FDM)
   /// `process_damping: {model: linear_equivalent|energy_balance, Ksp, wear_land, mu}`
   /// (000 Eq 18-19; 003 §3.1). Ksp in N/m^3, wear_land in um, mu dimensionless.

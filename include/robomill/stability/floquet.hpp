@@ -96,9 +96,10 @@ class FloquetSolver {
   Eigen::EigenSolver<Eigen::MatrixXd> eigen_;
 };
 
-/// Chatter frequency from a critical multiplier μ: f = (arg μ/2π + k)/τ, with
-/// the integer k that puts f where the structure is most flexible (largest
-/// receptance), since chatter grows near a mode.
+/// Chatter frequency from a critical multiplier μ: f = (k ± |arg μ|/2π)/τ (the
+/// multiplier comes with its conjugate), with the integer k and sign that put f
+/// where the structure is most flexible (largest receptance), since chatter
+/// grows near a mode.
 double chatter_frequency_hz(std::complex<double> multiplier, double delay_s,
                             const dynamics::ModalModel& modes);
 
