@@ -166,7 +166,16 @@ std::optional<double> interpolated_limit_m(const std::vector<Limit>& limits, dou
   return limits.back().depth_limit_m;
 }
 
-nlohmann::json experiment_check(const io::Job& job, const std::vector<Limit>& limits) {
+/// The computed speed nearest to a test's: its chatter frequency and, in an
+/// envelope, the governing mode say which structure the prediction blames.
+const Limit& nearest_limit(const std::vector<Limit>& limits, double spindle_rad_s) {
+  return *std::min_element(limits.begin(), limits.end(), [&](const Limit& a, const Limit& b) {
+    return std::abs(a.spindle_rad_s - spindle_rad_s) < std::abs(b.spindle_rad_s - spindle_rad_s);
+  });
+}
+
+nlohmann::json experiment_check(const io::Job& job, const dynamics::ModalModel& modes,
+                                const std::vector<Limit>& limits) {
   nlohmann::json tests = nlohmann::json::array();
   int agree = 0, compared = 0;
   for (const io::Experiment& e : job.experiments) {
@@ -178,6 +187,13 @@ nlohmann::json experiment_check(const io::Job& job, const std::vector<Limit>& li
       entry["limit_mm"] = *limit * 1e3;
       entry["predicted_chatter"] = predicted;
       entry["agrees"] = predicted == e.chatter;
+      const Limit& nearest = nearest_limit(limits, e.spindle_rad_s);
+      if (nearest.limited)
+        entry["chatter_freq_hz"] = nearest.chatter_frequency_hz;
+      if (nearest.mode >= 0) {
+        entry["governing_mode"] = nearest.mode + 1;
+        entry["governing_mode_fn_hz"] = modes.natural_rad_s()(nearest.mode) / (2.0 * std::numbers::pi);
+      }
       ++compared;
       agree += predicted == e.chatter ? 1 : 0;
     } else {
@@ -290,14 +306,14 @@ int run_stability(const JobCommandOptions& options) {
                           : settings.process_damping == Settings::Damping::energy_balance
                               ? "energy_balance"
                               : "linear_equivalent"},
-      {"experiments", experiment_check(job, primary)},
+      {"experiments", experiment_check(job, modes, primary)},
   };
   if (settings.method != Settings::Method::zoa)
     summary["discretization"] = settings.discretization;
   summary.update(diagram_summary(primary));
   if (want_coupled && want_envelope) {
     summary["envelope"] = diagram_summary(envelope);
-    summary["envelope"]["experiments"] = experiment_check(job, envelope);
+    summary["envelope"]["experiments"] = experiment_check(job, modes, envelope);
   }
   if (map) {
     summary["map"] = {{"speeds", map->spindle_rad_s.size()},

@@ -26,6 +26,8 @@ grep -qi 'nan\|inf' "$out/sld.csv" "$out/summary.json" && fail "non-finite numbe
   --set stability.speeds.count=30 --out "$WORK/003" --quiet || fail "003 exit code"
 grep -q '"compared": 4' "$WORK/003/summary.json" || fail "003: the four 1660 rpm tests not compared"
 [ -s "$WORK/003/sld_envelope.csv" ] || fail "003: modes both should write sld_envelope.csv"
+grep -q '"governing_mode"' "$WORK/003/summary.json" || fail "003: envelope tests name no governing mode"
+grep -q '"chatter_freq_hz"' "$WORK/003/summary.json" || fail "003: tests carry no chatter frequency"
 
 # The demo's diagram.
 "$ROBOMILL" stability "$SOURCE/examples/demo.yaml" --set stability.speeds.count=20 --out "$WORK/demo" \

@@ -76,4 +76,92 @@ TEST(Paper003, RobotModesGovernLowSpeedsAndTheToolModeHighSpeeds) {
   EXPECT_GT(transition_rpm, 2000.0);
 }
 
+// 003 Table 2 and §4, the slot tests of examples/003_kr270_process_damping.yaml
+// (ZOA, energy-balance process damping, our assumed Ksp/wear land/μ).
+//   paper: dominant structure per test speed — robot at 1660 and 2300 rpm,
+//          tool at 3210, 4490 and 5300 rpm; at 1660 rpm stable at 0.25-0.75 mm,
+//          chatter at 1.0 mm, "robot modes 1 and 2 dominate".
+//   ours : which structure sets the limit (chatter below 100 Hz: robot; above
+//          1 kHz: tool) in the coupled all-mode diagram and in the paper's
+//          envelope of one-mode diagrams, printed per speed; the 1660 rpm
+//          verdicts against both.
+//   why they disagree at 1660 rpm (checked below, not tuned): in a slot the
+//          direct terms of the mean directional matrix are ∝ Krc while the
+//          cross terms are ∝ Ktc (2.7 times larger), so a lone mode in x or y
+//          sees a weak coupling and the envelope puts the limit at 2.2 mm
+//          (mode Y2, 47 Hz), missing the 1.0 mm chatter; the near-equal robot
+//          modes X1 (19.9 Hz, along y) and Y1 (17.8 Hz, along x) couple through
+//          the cross terms and alone bring the limit to ≈ 0.2 mm at ≈ 20 Hz,
+//          which the coupled diagram reproduces: it calls 0.25-0.75 mm
+//          unstable. The truth (0.75-1.0 mm) lies between the two diagrams.
+TEST(Paper003, Table2SlotTestsAgainstTheCoupledDiagramAndTheEnvelope) {
+  const io::Job job = io::load_job(std::string(ROBOMILL_SOURCE_DIR) +
+                                   "/examples/003_kr270_process_damping.yaml");
+  const dynamics::ModalModel modes = io::modal_model(job);
+  auto model_of = [&](const dynamics::ModalModel& m) {
+    return stability::RegenerativeModel(tool::Tool(*job.tool), *job.cutting, *job.process, m);
+  };
+  stability::ProcessDamping damping;
+  damping.model = stability::ProcessDampingModel::energy_balance;
+  damping.indentation_n_per_m3 = job.stability->indentation_n_per_m3;
+  damping.wear_land_m = job.stability->wear_land_m;
+  damping.friction = job.stability->friction;
+  stability::ProcessDampedOptions options;
+  options.zero_order.depth_max_m = 10e-3;
+  auto limit_at = [&](const dynamics::ModalModel& m, stability::MultiModeMethod method,
+                      double rpm) {
+    options.method = method;
+    return stability::process_damped_limits(model_of(m), damping, {rpm * std::numbers::pi / 30.0},
+                                            options)[0];
+  };
+  auto structure = [](const stability::ZeroOrderLimit& l) {
+    return !l.limited ? "none" : l.chatter_frequency_hz < 100.0 ? "robot" : "tool";
+  };
+  const struct {
+    double rpm;
+    const char* paper;
+  } table2[] = {{1660, "robot"}, {2300, "robot"}, {3210, "tool"}, {4490, "tool"}, {5300, "tool"}};
+  int coupled_agree = 0, envelope_agree = 0;
+  for (const auto& row : table2) {
+    const auto coupled = limit_at(modes, stability::MultiModeMethod::coupled, row.rpm);
+    const auto envelope = limit_at(modes, stability::MultiModeMethod::envelope, row.rpm);
+    coupled_agree += std::string(structure(coupled)) == row.paper;
+    envelope_agree += std::string(structure(envelope)) == row.paper;
+    std::cout << "[validation] 003 Tab 2, " << row.rpm << " rpm: paper " << row.paper
+              << "; coupled " << coupled.depth_limit_m * 1e3 << " mm at "
+              << coupled.chatter_frequency_hz << " Hz (" << structure(coupled) << "); envelope "
+              << envelope.depth_limit_m * 1e3 << " mm at " << envelope.chatter_frequency_hz
+              << " Hz (" << structure(envelope) << ", mode " << envelope.mode + 1 << ")\n";
+  }
+  std::cout << "[validation] 003 Tab 2 dominant structure: coupled agrees at " << coupled_agree
+            << " of 5 speeds, envelope at " << envelope_agree << " of 5\n";
+  // The robot modes govern the lowest test speed in both diagrams, the tool
+  // the highest (the paper's trend); in between our transition depends on
+  // the unpublished process-damping parameters (docs/validation.md).
+  const auto coupled_1660 = limit_at(modes, stability::MultiModeMethod::coupled, 1660);
+  const auto envelope_1660 = limit_at(modes, stability::MultiModeMethod::envelope, 1660);
+  EXPECT_STREQ(structure(coupled_1660), "robot");
+  EXPECT_STREQ(structure(envelope_1660), "robot");
+  EXPECT_STREQ(structure(limit_at(modes, stability::MultiModeMethod::coupled, 5300)), "tool");
+  EXPECT_STREQ(structure(limit_at(modes, stability::MultiModeMethod::envelope, 5300)), "tool");
+  // The 1660 rpm verdicts bracket the truth between the two diagrams.
+  EXPECT_LT(coupled_1660.depth_limit_m, 0.75e-3);
+  EXPECT_GT(envelope_1660.depth_limit_m, 1.0e-3);
+  // The reason: the X1 + Y1 pair alone (modes 1 and 4 of the job) already
+  // calls the shallowest stable test (0.25 mm) unstable and chatters near
+  // their frequencies, while each of them alone is over 5 times stiffer in
+  // this slot. (The pair's 0.17 mm is 18 % below the all-mode 0.20 mm: the
+  // other modes shift the phase of the coupled receptance a little.)
+  const auto pair = limit_at(modes.subset({0, 3}), stability::MultiModeMethod::coupled, 1660);
+  const auto x1 = limit_at(modes.subset({0}), stability::MultiModeMethod::coupled, 1660);
+  const auto y1 = limit_at(modes.subset({3}), stability::MultiModeMethod::coupled, 1660);
+  std::cout << "[validation] 003 at 1660 rpm: X1+Y1 together " << pair.depth_limit_m * 1e3
+            << " mm at " << pair.chatter_frequency_hz << " Hz; X1 alone "
+            << x1.depth_limit_m * 1e3 << " mm, Y1 alone " << y1.depth_limit_m * 1e3 << " mm\n";
+  EXPECT_LT(pair.depth_limit_m, 0.25e-3);
+  EXPECT_GT(pair.chatter_frequency_hz, 15.0);
+  EXPECT_LT(pair.chatter_frequency_hz, 25.0);
+  EXPECT_GT(std::min(x1.depth_limit_m, y1.depth_limit_m), 5.0 * pair.depth_limit_m);
+}
+
 }  // namespace
