@@ -940,62 +940,193 @@ ForcesSettings read_forces(SectionReader& root, const std::optional<tool::ToolSp
   return forces;
 }
 
-std::vector<ModeSpec> read_dynamics(SectionReader& root) {
-  std::vector<ModeSpec> modes;
-  auto section = root.section("dynamics");
-  if (!section)
-    return modes;
-  SectionReader& r = *section;
-  r.allow({"modes"}, {"frf", "from_robot", "postures"},
-          "unknown key (not supported by this version of robomill)");
-  auto items = r.sections("modes");
-  if (items && items->empty())
-    r.fail("modes", "must list at least one mode");
-  if (items) {
-    for (SectionReader& m : *items) {
-      m.allow({"direction", "fn", "zeta", "k", "m"});
-      ModeSpec mode;
-      mode.direction = m.choice("direction", {"x", "y", "z"})[0];
-      mode.natural_frequency_hz =
-          m.quantity("fn", field(dimensions::frequency, 1.0, "Hz", kPositive));
-      mode.damping_ratio = m.quantity("zeta", dimensionless(kPositive, Bound{1.0, false}));
-      const auto k = m.optional_quantity("k", field(dimensions::stiffness, 1.0, "N/m", kPositive));
-      const auto mass = m.optional_quantity("m", field(dimensions::mass, 1.0, "kg", kPositive));
-      if (k && mass) {
-        const bool mass_second = m.line_of("m") >= m.line_of("k");
-        m.fail(mass_second ? "m" : "k",
-               "give either k (modal stiffness) or m (modal mass), not both");
+/// `shape: [{at: 3 mm, value: 3.232}, …]` — 000 Table 2's mass-normalized
+/// shape (1/√kg) at points measured from the tool tip.
+dynamics::AxialShape read_axial_shape(SectionReader& mode) {
+  auto points = mode.sections("shape");
+  if (points->empty())
+    mode.fail("shape", "must list at least one point {at, value}");
+  std::vector<double> distance_m, value;
+  for (SectionReader& point : *points) {
+    point.allow({"at", "value"});
+    const double at = point.quantity("at", length_mm(kNonNegative));
+    if (!distance_m.empty() && !(at > distance_m.back()))
+      point.fail("at", "points must be listed from the tip outward (increasing distance)");
+    distance_m.push_back(at);
+    value.push_back(point.quantity("value", dimensionless()));
+    point.finish();
+  }
+  return dynamics::AxialShape(std::move(distance_m), std::move(value));
+}
+
+ModeSpec read_mode(SectionReader& m) {
+  m.allow({"direction", "fn", "zeta", "k", "m", "shape"});
+  ModeSpec mode;
+  mode.direction = m.choice("direction", {"x", "y", "z"})[0];
+  mode.natural_frequency_hz = m.quantity("fn", field(dimensions::frequency, 1.0, "Hz", kPositive));
+  mode.damping_ratio = m.quantity("zeta", dimensionless(kPositive, Bound{1.0, false}));
+  const auto k = m.optional_quantity("k", field(dimensions::stiffness, 1.0, "N/m", kPositive));
+  const auto mass = m.optional_quantity("m", field(dimensions::mass, 1.0, "kg", kPositive));
+  const int given = (k ? 1 : 0) + (mass ? 1 : 0) + (m.has("shape") ? 1 : 0);
+  if (given > 1) {
+    const char* second = m.has("shape") ? "shape" : m.line_of("m") >= m.line_of("k") ? "m" : "k";
+    m.fail(second,
+           "give one of k (modal stiffness), m (modal mass) or shape (mass-normalized shape "
+           "along the tool), not several");
+  }
+  if (given == 0) {
+    m.fail("k",
+           "required field missing (modal stiffness in N/m, or give the modal mass m in kg, or "
+           "the mass-normalized shape along the tool)");
+  }
+  // k = m ωn² for a single-degree-of-freedom mode; a mass-normalized shape φ
+  // at the tip gives m = 1/φ².
+  const double omega = 2.0 * kPi * mode.natural_frequency_hz;
+  std::string source = k ? "k" : mass ? "m" : "shape";
+  if (k) {
+    mode.stiffness_n_per_m = *k;
+    mode.mass_kg = *k / (omega * omega);
+  } else if (mass) {
+    mode.mass_kg = *mass;
+    mode.stiffness_n_per_m = *mass * omega * omega;
+  } else {
+    try {
+      mode.shape = read_axial_shape(m);
+    } catch (const std::invalid_argument& e) {
+      m.fail("shape", e.what());
+    }
+    const double tip = mode.shape.at(0.0);
+    if (!(std::abs(tip) > 0.0)) {
+      m.fail("shape", fmt::format("extrapolates to {:g} 1/sqrt(kg) at the tool tip; a mode needs "
+                                  "a non-zero shape there",
+                                  tip));
+    }
+    mode.mass_kg = 1.0 / (tip * tip);
+    mode.stiffness_n_per_m = mode.mass_kg * omega * omega;
+  }
+  if (!std::isfinite(mode.stiffness_n_per_m) || !std::isfinite(mode.mass_kg) ||
+      !(mode.stiffness_n_per_m > 0.0) || !(mode.mass_kg > 0.0)) {
+    m.fail(source, "gives a modal mass or stiffness out of range with fn = " +
+                       fmt::format("{:g} Hz", mode.natural_frequency_hz));
+  }
+  m.finish();
+  return mode;
+}
+
+std::optional<int> read_axis(SectionReader& r, std::string_view key) {
+  if (!r.has(key))
+    return std::nullopt;
+  return r.choice(key, {"x", "y", "z"})[0] - 'x';
+}
+
+FrfFileSpec read_frf_file(SectionReader& f, const std::filesystem::path& source) {
+  f.allow({"file", "format", "response", "reference", "units"});
+  FrfFileSpec spec;
+  spec.path = f.path();
+  spec.line = f.line();
+  const auto file = f.optional_text("file");
+  if (!file || file->empty())
+    f.fail("file", "required field missing (path of a UFF58 or CSV file, relative to the job)");
+  spec.file = source.empty() ? std::filesystem::path(*file)
+                             : source.parent_path() / std::filesystem::path(*file);
+  std::string extension = spec.file.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const std::string guessed = extension == ".csv" ? "csv" : "uff58";
+  spec.format = f.choice("format", {"uff58", "csv"}, guessed) == "csv" ? FrfFileSpec::Format::csv
+                                                                       : FrfFileSpec::Format::uff58;
+  spec.response_axis = read_axis(f, "response");
+  spec.reference_axis = read_axis(f, "reference");
+  if (const auto units = f.optional_text("units")) {
+    Quantity unit;
+    try {
+      unit = parse_unit(*units);
+    } catch (const std::invalid_argument& e) {
+      f.fail("units", e.what());
+    }
+    if (unit.dimension == dimensions::receptance)
+      spec.kind = dynamics::FrfKind::receptance;
+    else if (unit.dimension == dimensions::mobility)
+      spec.kind = dynamics::FrfKind::mobility;
+    else if (unit.dimension == dimensions::accelerance)
+      spec.kind = dynamics::FrfKind::accelerance;
+    else
+      f.fail("units", "'" + *units +
+                          "' is not an FRF unit; expected a receptance (m/N, mm/N, um/N), a "
+                          "mobility (m/s/N) or an accelerance (m/s^2/N)");
+    spec.scale_to_si = unit.value_si;
+  }
+  if (spec.format == FrfFileSpec::Format::csv) {
+    if (!spec.kind)
+      f.fail("units", "required for CSV files (e.g. units: mm/N); it sets the FRF kind and scale");
+    if (!spec.response_axis)
+      f.fail("response", "required for CSV files: the measured direction, x, y or z");
+    if (!spec.reference_axis)
+      spec.reference_axis = spec.response_axis;  // a driving-point FRF
+  }
+  f.finish();
+  return spec;
+}
+
+FitSettings read_fit(SectionReader& fit) {
+  fit.allow({"bands", "max_order"});
+  FitSettings settings;
+  settings.max_order = fit.integer_or("max_order", 2, 200, 0);
+  if (auto bands = fit.sections("bands")) {
+    for (SectionReader& b : *bands) {
+      b.allow({"from", "to", "max_order"});
+      FitSettings::Band band;
+      band.low_hz = b.quantity("from", field(dimensions::frequency, 1.0, "Hz", kPositive));
+      band.high_hz = b.quantity("to", field(dimensions::frequency, 1.0, "Hz", kPositive));
+      if (!(band.high_hz > band.low_hz)) {
+        b.fail("to", fmt::format("must exceed from ({:g} Hz)", band.low_hz));
       }
-      if (!k && !mass) {
-        m.fail("k",
-               "required field missing (modal stiffness in N/m, or give the modal mass m "
-               "in kg)");
-      }
-      // k = m ωn² for a single-degree-of-freedom mode.
-      const double omega = 2.0 * kPi * mode.natural_frequency_hz;
-      if (k) {
-        mode.stiffness_n_per_m = *k;
-        mode.mass_kg = *k / (omega * omega);
-      } else {
-        mode.mass_kg = *mass;
-        mode.stiffness_n_per_m = *mass * omega * omega;
-      }
-      if (!std::isfinite(mode.stiffness_n_per_m) || !std::isfinite(mode.mass_kg) ||
-          !(mode.stiffness_n_per_m > 0.0) || !(mode.mass_kg > 0.0)) {
-        m.fail(k ? "k" : "m", "gives a modal mass or stiffness out of range with fn = " +
-                                  fmt::format("{:g} Hz", mode.natural_frequency_hz));
-      }
-      m.finish();
-      modes.push_back(mode);
+      band.max_order = b.integer_or("max_order", 2, 200, 0);
+      b.finish();
+      settings.bands.push_back(band);
     }
   }
+  fit.finish();
+  return settings;
+}
+
+void read_dynamics(SectionReader& root, Job& job) {
+  auto section = root.section("dynamics");
+  if (!section)
+    return;
+  SectionReader& r = *section;
+  r.allow({"modes", "frf", "fit", "use"}, {"from_robot", "postures"},
+          "unknown key (not supported by this version of robomill)");
+  if (auto items = r.sections("modes")) {
+    if (items->empty())
+      r.fail("modes", "must list at least one mode");
+    for (SectionReader& m : *items)
+      job.modes.push_back(read_mode(m));
+  }
+  if (auto files = r.sections("frf")) {
+    if (files->empty())
+      r.fail("frf", "must list at least one FRF file");
+    for (SectionReader& f : *files)
+      job.frf_files.push_back(read_frf_file(f, job.source));
+  }
+  if (auto fit = r.section("fit"))
+    job.fit = read_fit(*fit);
+  const std::string fallback = job.modes.empty() && !job.frf_files.empty() ? "fit" : "table";
+  const std::string use = r.choice("use", {"table", "fit", "frf"}, fallback);
+  job.dynamics_source = use == "fit"   ? Job::DynamicsSource::fit
+                        : use == "frf" ? Job::DynamicsSource::frf
+                                       : Job::DynamicsSource::table;
+  if (use == "table" && job.modes.empty())
+    r.fail("use", "is 'table' but dynamics.modes is missing");
+  if (use != "table" && job.frf_files.empty())
+    r.fail("use", "is '" + use + "' but dynamics.frf lists no measured FRF file");
   r.finish();
-  return modes;
 }
 
 std::optional<StabilitySettings> read_stability(SectionReader& root,
                                                 const std::optional<tool::ToolSpec>& tool,
-                                                const std::vector<ModeSpec>& modes) {
+                                                const std::vector<ModeSpec>& modes,
+                                                Job::DynamicsSource source) {
   auto section = root.section("stability");
   if (!section)
     return std::nullopt;
@@ -1083,10 +1214,15 @@ std::optional<StabilitySettings> read_stability(SectionReader& root,
   }
   r.finish();
 
-  if (modes.empty()) {
+  if (source == Job::DynamicsSource::frf && settings.method != Settings::Method::zoa) {
+    r.fail("method",
+           "dynamics.use is 'frf' (measured FRFs directly), which only the zero-order method "
+           "(zoa) can use; set method: zoa, or dynamics.use: fit for the time-domain methods");
+  }
+  if (modes.empty() && source == Job::DynamicsSource::table) {
     r.fail_here(
-        "the stability command needs dynamics.modes (the structure's modal table); add a "
-        "dynamics: section with modes");
+        "the stability command needs dynamics.modes (the structure's modal table) or measured "
+        "FRFs (dynamics.frf); add a dynamics: section");
   }
   // Time-domain discretizations step through the tooth period τ = 60/(N n) in
   // m steps of h = τ/m; h is largest at the lowest speed. At least two steps
@@ -1220,8 +1356,8 @@ Job read_job(const YAML::Node& root_node, const std::filesystem::path& source,
   job.cutting = read_cutting(root);
   job.process = read_process(root, job.tool);
   job.forces = read_forces(root, job.tool);
-  job.modes = read_dynamics(root);
-  job.stability = read_stability(root, job.tool, job.modes);
+  read_dynamics(root, job);
+  job.stability = read_stability(root, job.tool, job.modes, job.dynamics_source);
   job.experiments = read_experiments(root);
   job.output = read_output(root);
   root.finish();

@@ -427,7 +427,7 @@ TEST(JobValidation, CrossFieldChecks) {
   expect_error("process:\n  spindle: 6000\n  feed_rate: 600\n  ap: 1\n  ae: 2\n",
                "process.feed_rate", 3, "needs the number of teeth");
   expect_error("dynamics:\n  modes:\n    - {direction: x, fn: 100, zeta: 0.02, k: 1e6, m: 2}\n",
-               "dynamics.modes[0].m", 3, "either k (modal stiffness) or m (modal mass), not both");
+               "dynamics.modes[0].m", 3, "give one of k (modal stiffness), m (modal mass) or shape");
   expect_error("dynamics:\n  modes: []\n", "dynamics.modes", 2, "at least one mode");
 }
 

@@ -9,6 +9,8 @@
 
 #include "robomill/cutting/cutting_law.hpp"
 #include "robomill/cutting/process.hpp"
+#include "robomill/dynamics/axial_shape.hpp"
+#include "robomill/dynamics/frf.hpp"
 #include "robomill/dynamics/modal_model.hpp"
 #include "robomill/tool/tool.hpp"
 
@@ -26,8 +28,36 @@ struct ModeSpec {
   char direction = 'x';  ///< 'x', 'y' or 'z' (tool frame)
   double natural_frequency_hz = 0.0;
   double damping_ratio = 0.0;
-  double stiffness_n_per_m = 0.0;  ///< modal stiffness; derived from m when m is given
-  double mass_kg = 0.0;            ///< modal mass; derived from k when k is given
+  double stiffness_n_per_m = 0.0;  ///< modal stiffness at the tool tip; from m or the shape
+  double mass_kg = 0.0;            ///< modal mass at the tool tip; from k or the shape
+  /// Mass-normalized shape measured at points along the tool (`shape:`, 000
+  /// Table 2 and Eq 35): distance from the tool tip (m) and value (1/√kg),
+  /// sorted by distance; empty when the mode is given by k or m.
+  dynamics::AxialShape shape;
+};
+
+/// One measured FRF file (`dynamics.frf`): UFF58 (ASCII or binary) or CSV.
+struct FrfFileSpec {
+  std::filesystem::path file;  ///< resolved against the job's folder
+  enum class Format { uff58, csv } format = Format::uff58;
+  /// Tool-frame axes; for UFF58 taken from the file unless given here.
+  std::optional<int> response_axis, reference_axis;
+  /// `units:` ("mm/N", "m/s/N", "m/s^2/N"): the kind and the SI factor of the
+  /// file's values. Required for CSV; for UFF58 it overrides the file's units.
+  std::optional<dynamics::FrfKind> kind;
+  double scale_to_si = 1.0;
+  std::string path;  ///< job path for messages, `dynamics.frf[0]`
+  int line = 0;
+};
+
+/// `dynamics.fit`: how `robomill fit-modes` extracts modes from the FRFs.
+struct FitSettings {
+  struct Band {
+    double low_hz = 0.0, high_hz = 0.0;
+    int max_order = 0;  ///< 0: the fit's default
+  };
+  std::vector<Band> bands;  ///< empty: automatic band selection
+  int max_order = 0;        ///< 0: the fit's default
 };
 
 /// One cutting test with its observed outcome (`experiments:`).
@@ -75,6 +105,12 @@ struct Job {
   ForcesSettings forces;
   std::optional<StabilitySettings> stability;
   std::vector<ModeSpec> modes;
+  std::vector<FrfFileSpec> frf_files;  ///< `dynamics.frf`
+  FitSettings fit;                     ///< `dynamics.fit`
+  /// `dynamics.use`: what the analyses take as the structure — the modal
+  /// table, modes fitted to the FRF files, or (zero-order stability only)
+  /// the measured FRFs themselves.
+  enum class DynamicsSource { table, fit, frf } dynamics_source = DynamicsSource::table;
   std::vector<Experiment> experiments;
   OutputSettings output;
 
