@@ -375,7 +375,7 @@ TEST(JobValidation, UnknownKeys) {
                "stability, experiments, output (did you mean 'process'?)");
   expect_error("robot:\n  dh: []\n", "robot", 1,
                "section not supported by this version of robomill");
-  expect_error("dynamics:\n  frf: {x: a.uff}\n", "dynamics.frf", 2, "not supported");
+  expect_error("dynamics:\n  from_robot: true\n", "dynamics.from_robot", 2, "not supported");
   expect_error("cutting:\n  law: linear\n  Ktc: 800\n  kF: 3\n", "cutting.kF", 4,
                "unknown key for law 'linear'; expected one of: law, Ktc");
   expect_error(std::string(kTool) + "  runout: {offset: 0, phase: 3}\n", "tool.runout.phase", 4,
