@@ -6,6 +6,7 @@ BUILD       ?= build
 ASAN_BUILD  ?= build-asan
 FUZZ_BUILD  ?= build-fuzz
 FUZZ_SECONDS ?= 60
+FUZZ_FRF_SECONDS ?= 30
 
 .PHONY: all setup build demo test test-release test-sanitize fuzz bench format clean
 
@@ -37,18 +38,24 @@ test-sanitize: setup
 	cd $(ASAN_BUILD) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
 	  ctest --output-on-failure -j$(JOBS)
 
-# libFuzzer on the job parser (clang), seeded from fuzz/corpus; any crash fails.
+# libFuzzer on the job parser and the FRF readers (clang), seeded from fuzz/corpus*; any crash fails.
 fuzz: setup
 	cmake -S . -B $(FUZZ_BUILD) -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
 	  -DROBOMILL_BUILD_FUZZ=ON -DROBOMILL_BUILD_TESTS=OFF -DROBOMILL_BUILD_BENCH=OFF
-	cmake --build $(FUZZ_BUILD) --target fuzz_job_parser -j$(JOBS)
-	mkdir -p $(FUZZ_BUILD)/corpus-run
+	cmake --build $(FUZZ_BUILD) --target fuzz_job_parser fuzz_frf_readers -j$(JOBS)
+	mkdir -p $(FUZZ_BUILD)/corpus-run $(FUZZ_BUILD)/corpus-frf-run
 	@echo "fuzz: job parser for $(FUZZ_SECONDS) s (log: $(FUZZ_BUILD)/fuzz.log)"
 	@./$(FUZZ_BUILD)/fuzz/fuzz_job_parser -dict=fuzz/job.dict -max_total_time=$(FUZZ_SECONDS) \
 	  -timeout=10 -print_final_stats=1 -artifact_prefix=$(FUZZ_BUILD)/ \
 	  $(FUZZ_BUILD)/corpus-run fuzz/corpus > $(FUZZ_BUILD)/fuzz.log 2>&1 \
 	  || { tail -40 $(FUZZ_BUILD)/fuzz.log; echo "fuzz: FAILED (crash, leak or hang; reproducer in $(FUZZ_BUILD)/)"; exit 1; }
 	@grep -E '^(Done|stat::number_of_executed_units|stat::peak_rss_mb)' $(FUZZ_BUILD)/fuzz.log
+	@echo "fuzz: FRF readers for $(FUZZ_FRF_SECONDS) s (log: $(FUZZ_BUILD)/fuzz-frf.log)"
+	@./$(FUZZ_BUILD)/fuzz/fuzz_frf_readers -dict=fuzz/frf.dict -max_total_time=$(FUZZ_FRF_SECONDS) \
+	  -timeout=10 -print_final_stats=1 -artifact_prefix=$(FUZZ_BUILD)/ \
+	  $(FUZZ_BUILD)/corpus-frf-run fuzz/corpus-frf > $(FUZZ_BUILD)/fuzz-frf.log 2>&1 \
+	  || { tail -40 $(FUZZ_BUILD)/fuzz-frf.log; echo "fuzz: FAILED (crash, leak or hang; reproducer in $(FUZZ_BUILD)/)"; exit 1; }
+	@grep -E '^(Done|stat::number_of_executed_units|stat::peak_rss_mb)' $(FUZZ_BUILD)/fuzz-frf.log
 
 bench: build
 	for b in $(BUILD)/bench/bench_*; do $$b --benchmark_min_time=0.2; done

@@ -2,6 +2,7 @@
 // The command-line tool's commands. Each is thin: load and validate the job,
 // call the library, hand results to the writers.
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -41,5 +42,16 @@ struct IdentifyOptions {
   bool quiet = false;
 };
 int run_identify_cutting(const IdentifyOptions& options);
+
+/// `robomill frf JOB`: FRFs synthesized from the job's modal table.
+struct FrfCommandOptions {
+  JobCommandOptions job;
+  std::string from, to, step;  ///< frequencies as typed ("10 Hz"); empty: automatic
+  std::string kind = "receptance";
+  std::string format = "uff58";  ///< uff58, uff58b or csv
+  double noise = 0.0;            ///< relative complex noise (0.02 = 2 %)
+  std::uint32_t seed = 1;
+};
+int run_frf(const FrfCommandOptions& options);
 
 }  // namespace robomill::app

@@ -78,6 +78,23 @@ int main(int argc, char** argv) {
                        "output folder (default out/identify-cutting)");
   identify->add_flag("--quiet", identify_options.quiet, "print nothing but errors");
 
+  robomill::app::FrfCommandOptions frf_options;
+  CLI::App* frf = app.add_subcommand(
+      "frf",
+      "tool-tip FRFs of the job's modal table (optionally with noise) → frf.uff or frf_*.csv, "
+      "summary.json");
+  add_job_options(*frf, frf_options.job, true);
+  frf->add_option("--from", frf_options.from, "lowest frequency (default 0 Hz)");
+  frf->add_option("--to", frf_options.to, "highest frequency (default 1.5 x the highest mode)");
+  frf->add_option("--step", frf_options.step,
+                  "frequency step (default: a tenth of the narrowest half-power band)");
+  frf->add_option("--kind", frf_options.kind, "receptance (default), mobility or accelerance");
+  frf->add_option("--format", frf_options.format,
+                  "uff58 (ASCII, default), uff58b (binary) or csv");
+  frf->add_option("--noise", frf_options.noise,
+                  "relative complex noise, e.g. 0.02 for 2 % of |H| (default 0)");
+  frf->add_option("--seed", frf_options.seed, "seed of the noise (default 1)");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
@@ -94,6 +111,8 @@ int main(int argc, char** argv) {
       return robomill::app::run_stability(stability_options);
     if (identify->parsed())
       return robomill::app::run_identify_cutting(identify_options);
+    if (frf->parsed())
+      return robomill::app::run_frf(frf_options);
   } catch (const robomill::InputError& error) {
     std::cerr << "robomill: error: " << error.what() << '\n';
     return kExitInvalidInput;

@@ -46,6 +46,16 @@ Eigen::Matrix3d mean_cutting_stiffness_per_depth(const RegenerativeModel& model,
   return sum / (samples * depth);
 }
 
+Eigen::Matrix3d mean_cutting_stiffness_per_depth(const tool::Tool& tool,
+                                                 const cutting::CuttingLaw& law,
+                                                 const cutting::MillingProcess& process,
+                                                 int samples, double reference_depth_m) {
+  // RegenerativeModel needs some modal model; W, and so A0, never reads it.
+  const dynamics::ModalModel placeholder({dynamics::directional_mode(0, 1.0, 0.5, 1.0)});
+  return mean_cutting_stiffness_per_depth(RegenerativeModel(tool, law, process, placeholder),
+                                          samples, reference_depth_m);
+}
+
 std::vector<FrfPeak> modal_peaks(const dynamics::ModalModel& modes) {
   std::vector<FrfPeak> peaks;
   peaks.reserve(modes.modes().size());

@@ -109,6 +109,13 @@ struct ZeroOrderLimit {
 Eigen::Matrix3d mean_cutting_stiffness_per_depth(const RegenerativeModel& model, int samples = 4096,
                                                  double reference_depth_m = 0.0);
 
+/// The same A0 for a cut alone, when the structure is known only by measured
+/// FRFs: W(ϕ) depends on the tool, the law and the engagement, not on the modes.
+Eigen::Matrix3d mean_cutting_stiffness_per_depth(const tool::Tool& tool,
+                                                 const cutting::CuttingLaw& law,
+                                                 const cutting::MillingProcess& process,
+                                                 int samples = 4096, double reference_depth_m = 0.0);
+
 /// The chatter-frequency grid (rad/s, sorted, unique) for the given peaks.
 std::vector<double> chatter_frequency_grid_rad_s(const std::vector<FrfPeak>& peaks,
                                                  const ZeroOrderOptions& options);

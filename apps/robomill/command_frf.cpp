@@ -1,0 +1,148 @@
+// robomill frf JOB: the tool-tip FRFs of the job's modal table (001 Eq 19-22),
+// optionally with measurement-like noise, written as UFF58 (what hammer-test
+// software exchanges) or CSV. Users check a modal table against their
+// measurement with it; the project makes its example measurements with it.
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "commands.hpp"
+#include "robomill/core/error.hpp"
+#include "robomill/dynamics/frf.hpp"
+#include "robomill/dynamics/frf_noise.hpp"
+#include "robomill/io/frf_csv.hpp"
+#include "robomill/io/output_bundle.hpp"
+#include "robomill/io/summary.hpp"
+#include "robomill/io/uff58.hpp"
+#include "robomill/io/units.hpp"
+
+namespace robomill::app {
+namespace {
+
+/// A frequency option: "10 Hz", "6 kHz" or a bare number in Hz.
+double frequency_option(const std::string& option, const std::string& text) {
+  io::Quantity q;
+  try {
+    q = io::parse_quantity(text);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(option, 0, e.what());
+  }
+  if (!(q.dimension == io::dimensions::frequency || q.dimension == io::dimensions::none))
+    throw InputError(option, 0, "'" + text + "' is not a frequency (Hz, kHz)");
+  if (!std::isfinite(q.value_si) || q.value_si < 0.0)
+    throw InputError(option, 0, "'" + text + "' must be a finite frequency ≥ 0");
+  return q.value_si;
+}
+
+dynamics::FrfKind kind_option(const std::string& text) {
+  if (text == "receptance")
+    return dynamics::FrfKind::receptance;
+  if (text == "mobility")
+    return dynamics::FrfKind::mobility;
+  if (text == "accelerance")
+    return dynamics::FrfKind::accelerance;
+  throw InputError("--kind", 0,
+                   "'" + text + "': expected receptance, mobility or accelerance");
+}
+
+}  // namespace
+
+int run_frf(const FrfCommandOptions& options) {
+  const io::Job job = load(options.job);
+  io::require(job, {io::Section::modes});
+  const dynamics::ModalModel modes = io::modal_model(job);
+
+  // Default grid: from 0 to 1.5 × the highest mode, with 10 points in the
+  // half-power band 2ζfn of the sharpest mode, so every peak is resolved.
+  double sharpest_band_hz = INFINITY;
+  for (const dynamics::Mode& mode : modes.modes())
+    sharpest_band_hz =
+        std::min(sharpest_band_hz, 2.0 * mode.damping_ratio * mode.natural_frequency_hz);
+  const double from_hz = options.from.empty() ? 0.0 : frequency_option("--from", options.from);
+  const double to_hz = options.to.empty() ? 1.5 * modes.highest_frequency_hz()
+                                          : frequency_option("--to", options.to);
+  const double step_hz =
+      options.step.empty() ? sharpest_band_hz / 10.0 : frequency_option("--step", options.step);
+  if (!(to_hz > from_hz))
+    throw InputError("--to", 0, fmt::format("must exceed --from ({:g} Hz)", from_hz));
+  if (!(step_hz > 0.0))
+    throw InputError("--step", 0, "must be positive");
+  const double points = std::floor((to_hz - from_hz) / step_hz + 1e-9) + 1.0;
+  if (points > 2e6)
+    throw InputError("--step", 0,
+                     fmt::format("gives {:.0f} frequencies; at most 2 000 000", points));
+  if (!(options.noise >= 0.0 && options.noise <= 1.0))
+    throw InputError("--noise", 0, "relative noise must lie in [0, 1] (0.02 is 2 %)");
+  std::vector<double> grid(static_cast<std::size_t>(points));
+  for (std::size_t i = 0; i < grid.size(); ++i)
+    grid[i] = from_hz + static_cast<double>(i) * step_hz;
+  const dynamics::FrfKind kind = kind_option(options.kind);
+
+  // A driving-point FRF for every direction some mode moves.
+  std::vector<io::UffFrf> frfs;
+  const Eigen::Matrix<double, 3, Eigen::Dynamic> shapes = modes.shape_matrix();
+  for (int axis = 0; axis < 3; ++axis) {
+    if (shapes.row(axis).cwiseAbs().maxCoeff() == 0.0)
+      continue;
+    io::UffFrf entry;
+    entry.frf = dynamics::synthesize(modes, axis, axis, grid, kind);
+    // Each direction its own seed, so adding a direction leaves the others' data.
+    if (options.noise > 0.0)
+      dynamics::add_relative_noise(entry.frf, options.noise,
+                                   options.seed + static_cast<std::uint32_t>(axis));
+    const std::string direction(2, "xyz"[axis]);
+    entry.frf.label = fmt::format("H{} {} of {}", direction, dynamics::kind_name(kind),
+                                  job.name.empty() ? job.source.filename().string() : job.name);
+    entry.id_lines[0] = fmt::format("robomill frf: {} modes, noise {:g} %, seed {}", modes.size(),
+                                    100.0 * options.noise, options.seed);
+    frfs.push_back(std::move(entry));
+  }
+
+  const std::filesystem::path out = output_dir(options.job, job, "frf");
+  io::OutputBundle bundle(out);
+  std::vector<std::string> files;
+  if (options.format == "csv") {
+    for (const io::UffFrf& entry : frfs) {
+      const std::string name =
+          fmt::format("frf_{}{}.csv", "xyz"[entry.frf.response_axis],
+                      "xyz"[entry.frf.reference_axis]);
+      bundle.add(name, io::format_frf_csv(entry.frf));
+      files.push_back(name);
+    }
+  } else {
+    const bool binary = options.format == "uff58b";
+    if (!binary && options.format != "uff58")
+      throw InputError("--format", 0,
+                       "'" + options.format + "': expected uff58, uff58b (binary) or csv");
+    bundle.add("frf.uff",
+               io::format_uff58(frfs, binary ? io::UffEncoding::binary : io::UffEncoding::ascii));
+    files.push_back("frf.uff");
+  }
+  nlohmann::json summary = {{"command", "frf"},
+                            {"job", job.source.string()},
+                            {"kind", dynamics::kind_name(kind)},
+                            {"from_hz", from_hz},
+                            {"to_hz", grid.back()},
+                            {"step_hz", step_hz},
+                            {"points", grid.size()},
+                            {"noise_relative", options.noise},
+                            {"seed", options.seed},
+                            {"frfs", frfs.size()},
+                            {"files", files}};
+  if (job.output.json)
+    bundle.add("summary.json", io::summary_text(summary));
+  bundle.commit();
+  if (!options.job.quiet) {
+    std::cout << fmt::format("frf: {} FRF(s), {} points {:g}-{:g} Hz, noise {:g} %\n",
+                             frfs.size(), grid.size(), from_hz, grid.back(),
+                             100.0 * options.noise)
+              << "  written to " << out.string() << '\n';
+  }
+  return 0;
+}
+
+}  // namespace robomill::app

@@ -1,0 +1,880 @@
+#include "robomill/io/uff58.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <fstream>
+#include <initializer_list>
+#include <stdexcept>
+
+#include "robomill/core/error.hpp"
+#include "robomill/io/output_bundle.hpp"
+#include "text.hpp"
+
+namespace robomill::io {
+namespace {
+
+using dynamics::FrfKind;
+
+// Caps what a count field may ask for, before the bytes are checked.
+constexpr long long kMaxPoints = 10'000'000;
+constexpr std::uintmax_t kMaxFileBytes = std::uintmax_t{1} << 30;
+constexpr double kStandardGravity = 9.80665;     // m/s² per g
+constexpr double kPoundForce = 4.4482216152605;  // N per lbf
+
+// Walks the bytes line by line; binary blocks are taken by count. Every '\n'
+// counts as a line, inside binary blocks too, so numbers match an editor's.
+class Reader {
+ public:
+  Reader(std::string_view bytes, std::string_view source) : bytes_(bytes), source_(source) {}
+
+  std::optional<std::string_view> next_line() {
+    if (position_ >= bytes_.size())
+      return std::nullopt;
+    std::size_t end = bytes_.find('\n', position_);
+    const std::size_t next = end == std::string_view::npos ? bytes_.size() : end + 1;
+    if (end == std::string_view::npos)
+      end = bytes_.size();
+    std::string_view line = bytes_.substr(position_, end - position_);
+    if (!line.empty() && line.back() == '\r')
+      line.remove_suffix(1);
+    position_ = next;
+    ++line_;
+    return line;
+  }
+
+  std::string_view require_line(const std::string& what) {
+    const auto line = next_line();
+    if (!line)
+      fail(line_ + 1, "unexpected end of file: expected " + what);
+    return *line;
+  }
+
+  std::string_view take_bytes(std::size_t count) {
+    const std::string_view block = bytes_.substr(position_, count);
+    position_ += count;
+    line_ += static_cast<int>(std::count(block.begin(), block.end(), '\n'));
+    return block;
+  }
+
+  std::size_t remaining() const noexcept { return bytes_.size() - position_; }
+  int line() const noexcept { return line_; }
+
+  [[noreturn]] void fail(int line, const std::string& why) const {
+    throw InputError(std::string(source_), line, why);
+  }
+
+ private:
+  std::string_view bytes_;
+  std::string_view source_;
+  std::size_t position_ = 0;
+  int line_ = 0;
+};
+
+bool is_delimiter(std::string_view line) {
+  return text::trim(line) == "-1";
+}
+
+std::string shown(std::string_view text) {
+  std::string out(text.substr(0, 40));
+  for (char& c : out) {
+    if (static_cast<unsigned char>(c) < 32 || static_cast<unsigned char>(c) > 126)
+      c = '?';
+  }
+  return "'" + out + (text.size() > 40 ? "...'" : "'");
+}
+
+// Numeric fields separated by blanks; fixed-width fields that touch
+// ("1.0E+00-2.0E+00") are split before a sign that does not follow an exponent letter.
+std::vector<std::string_view> numeric_tokens(std::string_view line) {
+  std::vector<std::string_view> tokens;
+  std::size_t i = 0;
+  while (i < line.size()) {
+    while (i < line.size() && (line[i] == ' ' || line[i] == '\t'))
+      ++i;
+    std::size_t start = i;
+    while (i < line.size() && line[i] != ' ' && line[i] != '\t') {
+      const char c = line[i];
+      if (i > start && (c == '+' || c == '-') &&
+          std::string_view("EeDd").find(line[i - 1]) == std::string_view::npos) {
+        tokens.push_back(line.substr(start, i - start));
+        start = i;
+      }
+      ++i;
+    }
+    if (i > start)
+      tokens.push_back(line.substr(start, i - start));
+  }
+  return tokens;
+}
+
+// A Fortran real: E or D exponent, optional leading '+'. Non-finite values are
+// returned as such; the caller reports them with its context.
+std::optional<double> parse_real(std::string_view token) {
+  if (!token.empty() && token[0] == '+')
+    token.remove_prefix(1);
+  char buffer[64];
+  if (token.empty() || token.size() >= sizeof buffer)
+    return std::nullopt;
+  for (std::size_t i = 0; i < token.size(); ++i)
+    buffer[i] = (token[i] == 'D' || token[i] == 'd') ? 'E' : token[i];
+  double value = 0.0;
+  const auto result = std::from_chars(buffer, buffer + token.size(), value);
+  if (result.ec != std::errc() || result.ptr != buffer + token.size())
+    return std::nullopt;
+  return value;
+}
+
+std::optional<long long> parse_integer(std::string_view token) {
+  token = text::trim(token);
+  if (!token.empty() && token[0] == '+')
+    token.remove_prefix(1);
+  long long value = 0;
+  const auto result = std::from_chars(token.data(), token.data() + token.size(), value);
+  if (token.empty() || result.ec != std::errc() || result.ptr != token.data() + token.size())
+    return std::nullopt;
+  return value;
+}
+
+std::string_view column(std::string_view line, std::size_t begin, std::size_t width) {
+  if (begin >= line.size())
+    return {};
+  return text::trim(line.substr(begin, width));
+}
+
+long long integer_field(const Reader& reader, std::string_view line, std::size_t begin,
+                        std::size_t width, const char* what) {
+  const std::string_view cell = column(line, begin, width);
+  const auto value = parse_integer(cell);
+  // No field of ours needs more than an int; a node number beyond it is garbage.
+  if (!value || *value < -2'147'483'647 || *value > 2'147'483'647)
+    reader.fail(reader.line(), std::string(what) + ": expected an integer, got " + shown(cell));
+  return *value;
+}
+
+void require_columns(const Reader& reader, std::string_view line, std::size_t columns,
+                     const char* record) {
+  if (line.size() < columns)
+    reader.fail(reader.line(), std::string("wrong record length: ") + record + " needs " +
+                                   std::to_string(columns) + " columns, got " +
+                                   std::to_string(line.size()));
+}
+
+// Records 8-11: I10,3I5,2(1X,20A1).
+struct AxisRecord {
+  long long specific_type = 0;
+  long long length_exponent = 0;
+  long long force_exponent = 0;
+  std::string units_label;
+  int line = 0;
+};
+
+AxisRecord read_axis_record(Reader& reader, const char* record) {
+  const std::string_view line = reader.require_line(record);
+  require_columns(reader, line, 25, record);
+  AxisRecord axis;
+  axis.line = reader.line();
+  const std::string name(record);
+  axis.specific_type = integer_field(reader, line, 0, 10, (name + " specific data type").c_str());
+  axis.length_exponent = integer_field(reader, line, 10, 5, (name + " length exponent").c_str());
+  axis.force_exponent = integer_field(reader, line, 15, 5, (name + " force exponent").c_str());
+  integer_field(reader, line, 20, 5, (name + " temperature exponent").c_str());
+  axis.units_label = std::string(column(line, 47, 20));
+  return axis;
+}
+
+bool is_blank_label(std::string_view label) {
+  label = text::trim(label);
+  if (label.size() != 4)
+    return label.empty();
+  std::string upper(label);
+  std::transform(upper.begin(), upper.end(), upper.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::toupper(c)); });
+  return upper == "NONE";
+}
+
+std::string normalized_label(std::string_view label) {
+  std::string out;
+  for (std::size_t i = 0; i < label.size(); ++i) {
+    const std::string_view rest = label.substr(i);
+    if (rest.starts_with("\xC2\xB2")) {  // UTF-8 superscript two
+      out += "^2";
+      ++i;
+    } else if (rest.starts_with("\xC2\xB5") || rest.starts_with("\xCE\xBC")) {  // micro
+      out += 'u';
+      ++i;
+    } else if (rest.starts_with("**")) {
+      out += '^';
+      ++i;
+    } else if (label[i] != ' ' && label[i] != '(' && label[i] != ')') {
+      out += label[i];
+    }
+  }
+  return out;
+}
+
+using UnitTable = std::initializer_list<std::pair<std::string_view, double>>;
+
+std::optional<double> unit_in(std::string_view unit, UnitTable table) {
+  for (const auto& [name, scale_to_si] : table) {
+    if (unit == name)
+      return scale_to_si;
+  }
+  return std::nullopt;
+}
+
+std::optional<double> force_unit(std::string_view unit) {
+  return unit_in(
+      unit, {{"N", 1.0}, {"kN", 1e3}, {"mN", 1e-3}, {"lbf", kPoundForce}, {"lb", kPoundForce}});
+}
+
+std::optional<double> length_unit(std::string_view unit) {
+  return unit_in(unit, {{"m", 1.0}, {"mm", 1e-3}, {"um", 1e-6}, {"cm", 1e-2}, {"in", 0.0254}});
+}
+
+struct OrdinateUnit {
+  double scale_to_si = 1.0;
+  FrfKind kind = FrfKind::receptance;
+  bool per_force = false;  ///< the label already divides by a force ("mm/N")
+};
+
+// "mm", "m/s", "m/s^2", "g", optionally over a force: "mm/N", "g/N".
+std::optional<OrdinateUnit> ordinate_unit(std::string_view label) {
+  std::string unit = normalized_label(label);
+  OrdinateUnit result;
+  if (const auto slash = unit.rfind('/'); slash != std::string::npos) {
+    if (const auto force = force_unit(std::string_view(unit).substr(slash + 1))) {
+      result.per_force = true;
+      result.scale_to_si /= *force;
+      unit.resize(slash);
+    }
+  }
+  std::string_view body = unit;
+  if (body == "g" || body == "G") {
+    result.kind = FrfKind::accelerance;
+    result.scale_to_si *= kStandardGravity;
+    return result;
+  }
+  if (body.ends_with("/s^2") || body.ends_with("/s2")) {
+    result.kind = FrfKind::accelerance;
+    body = body.substr(0, body.rfind('/'));
+  } else if (body.ends_with("/s")) {
+    result.kind = FrfKind::mobility;
+    body.remove_suffix(2);
+  }
+  const auto length = length_unit(body);
+  if (!length)
+    return std::nullopt;
+  result.scale_to_si *= *length;
+  return result;
+}
+
+std::optional<FrfKind> kind_of_specific_type(long long type) {
+  if (type == 8)
+    return FrfKind::receptance;
+  if (type == 11)
+    return FrfKind::mobility;
+  if (type == 12)
+    return FrfKind::accelerance;
+  return std::nullopt;
+}
+
+// Dataset 164: factors that divide file units to give SI.
+struct UnitFactors {
+  double length = 1.0;
+  double force = 1.0;
+};
+
+// The spec's Addendum A: the exponents of the file's length and force units
+// are implied by the specific data type; only other types state them.
+double factor_scale(const std::optional<UnitFactors>& units, const AxisRecord& axis) {
+  if (!units)
+    return 1.0;
+  double length_exponent = static_cast<double>(axis.length_exponent);
+  double force_exponent = static_cast<double>(axis.force_exponent);
+  if (kind_of_specific_type(axis.specific_type)) {
+    length_exponent = 1.0;
+    force_exponent = 0.0;
+  } else if (axis.specific_type == 9 || axis.specific_type == 13) {
+    length_exponent = 0.0;
+    force_exponent = 1.0;
+  }
+  return std::pow(units->length, -length_exponent) * std::pow(units->force, -force_exponent);
+}
+
+double ordinate_scale(const Reader& reader, const AxisRecord& numerator,
+                      const AxisRecord& denominator, const std::optional<UnitFactors>& units,
+                      const Uff58ReadOptions& options) {
+  if (options.ordinate_scale_to_si)
+    return *options.ordinate_scale_to_si;
+  double scale = factor_scale(units, numerator);
+  bool per_force = false;
+  if (!is_blank_label(numerator.units_label)) {
+    const auto unit = ordinate_unit(numerator.units_label);
+    if (!unit)
+      reader.fail(numerator.line,
+                  "unknown ordinate unit " + shown(numerator.units_label) +
+                      " (known: m, mm, um, in, m/s, m/s^2, g, optionally over N, kN, lbf, "
+                      "e.g. mm/N); give the ordinate unit scale instead");
+    scale = unit->scale_to_si;
+    per_force = unit->per_force;
+  }
+  if (!per_force) {
+    if (is_blank_label(denominator.units_label)) {
+      scale /= factor_scale(units, denominator);
+    } else if (const auto force = force_unit(normalized_label(denominator.units_label))) {
+      scale /= *force;
+    } else {
+      reader.fail(denominator.line, "unknown force unit " + shown(denominator.units_label) +
+                                        " (known: N, kN, mN, lbf)");
+    }
+  }
+  if (!std::isfinite(scale) || !(scale > 0.0))
+    reader.fail(numerator.line, "the unit exponents give no finite conversion factor to SI");
+  return scale;
+}
+
+FrfKind ordinate_kind(const Reader& reader, const AxisRecord& numerator,
+                      const Uff58ReadOptions& options) {
+  if (options.kind)
+    return *options.kind;
+  const auto from_type = kind_of_specific_type(numerator.specific_type);
+  std::optional<FrfKind> from_label;
+  if (!is_blank_label(numerator.units_label)) {
+    if (const auto unit = ordinate_unit(numerator.units_label))
+      from_label = unit->kind;
+  }
+  if (from_type && from_label && *from_type != *from_label)
+    reader.fail(numerator.line, "ordinate specific data type " +
+                                    std::to_string(numerator.specific_type) + " (" +
+                                    dynamics::kind_name(*from_type) + ") contradicts unit " +
+                                    shown(numerator.units_label));
+  if (from_type)
+    return *from_type;
+  if ((numerator.specific_type == 0 || numerator.specific_type == 1) && from_label)
+    return *from_label;
+  reader.fail(numerator.line, "ordinate specific data type " +
+                                  std::to_string(numerator.specific_type) +
+                                  " is not displacement (8), velocity (11) or acceleration (12)");
+}
+
+// Record 6 direction → tool axis and sign (a negative direction flips the data).
+int axis_of(const Reader& reader, int line, long long direction, const std::optional<int>& chosen,
+            const char* what, double& sign) {
+  if (direction < -6 || direction > 6)
+    reader.fail(line, std::string("unknown ") + what + " direction " + std::to_string(direction));
+  if (direction < 0)
+    sign = -sign;
+  if (chosen) {
+    if (*chosen < 0 || *chosen > 2)
+      throw std::invalid_argument(std::string(what) + " axis override must be 0, 1 or 2");
+    return *chosen;
+  }
+  if (direction == 0 || std::abs(direction) > 3)
+    reader.fail(line, std::string(what) + " direction " + std::to_string(direction) +
+                          " is not a translation (1..3 = +x..+z, -1..-3 = -x..-z); give the " +
+                          what + " axis instead");
+  return static_cast<int>(std::abs(direction)) - 1;
+}
+
+// Turns the data values (x, re, im per point, or re, im with an even grid)
+// into the FRF, checking each value with the line it came from.
+struct Points {
+  bool even = true;
+  double min_hz = 0.0;
+  double increment_hz = 0.0;
+  double factor = 1.0;  ///< unit scale times direction sign
+  dynamics::Frf* frf = nullptr;
+  std::size_t index = 0;
+  double abscissa_hz = 0.0;
+  double real = 0.0;
+
+  void add(const Reader& reader, int line, double value) {
+    if (!std::isfinite(value))
+      reader.fail(line, "non-finite value (NaN or infinity) in the data");
+    const std::size_t stride = even ? 2 : 3;
+    const std::size_t slot = index % stride;
+    const std::size_t point = index / stride;
+    ++index;
+    if (!even && slot == 0) {
+      abscissa_hz = value;
+    } else if (slot + 2 == stride) {
+      real = value;
+    } else {
+      if (even)
+        abscissa_hz = min_hz + static_cast<double>(point) * increment_hz;
+      if (!std::isfinite(abscissa_hz) || abscissa_hz < 0.0 ||
+          (!frf->frequency_hz.empty() && !(abscissa_hz > frf->frequency_hz.back())))
+        reader.fail(line, "frequencies must be finite, >= 0 and strictly increasing (point " +
+                              std::to_string(point + 1) + ")");
+      const std::complex<double> scaled = std::complex<double>(real, value) * factor;
+      if (!std::isfinite(scaled.real()) || !std::isfinite(scaled.imag()))
+        reader.fail(line, "value overflows after conversion to SI units");
+      frf->frequency_hz.push_back(abscissa_hz);
+      frf->value.push_back(scaled);
+    }
+  }
+};
+
+struct BinaryHeader {
+  bool binary = false;
+  long long byte_order = 1;
+  long long bytes = 0;
+  long long ascii_lines = 0;
+  int line = 0;
+};
+
+// Where the binary values of a dataset 58b lie: bytes per slot (x, re, im)
+// and in all, checked against the header's count and the bytes present.
+struct BinaryLayout {
+  std::size_t slot_bytes[3] = {0, 0, 0};
+  std::size_t bytes = 0;
+};
+
+BinaryLayout binary_layout(const Reader& reader, const BinaryHeader& header, long long count,
+                           bool even, bool is_double, bool is_complex) {
+  const std::size_t slots = (even ? 0 : 1) + (is_complex ? 2 : 1);
+  const auto points = static_cast<std::size_t>(count);
+  const auto declared = static_cast<std::size_t>(header.bytes);
+  BinaryLayout layout;
+  for (std::size_t k = 0; k < slots; ++k)
+    layout.slot_bytes[k] = is_double ? 8 : 4;
+  // Case 6/8 of the spec keep the abscissa a single-precision REAL; most
+  // writers store every value alike. The byte count tells which.
+  if (!even && is_double && declared == points * (4 + 8 * (slots - 1)))
+    layout.slot_bytes[0] = 4;
+  for (std::size_t k = 0; k < slots; ++k)
+    layout.bytes += points * layout.slot_bytes[k];
+  // pyuff (<= 2.4) declares 8 bytes per point whatever the layout; the
+  // delimiter expected right after the data still catches a wrong record 7.
+  const bool pyuff_count = is_double && declared == points * 8;
+  if (declared != layout.bytes && !pyuff_count)
+    reader.fail(header.line, "binary length mismatch: the header declares " +
+                                 std::to_string(declared) + " bytes, record 7 needs " +
+                                 std::to_string(layout.bytes));
+  if (layout.bytes > reader.remaining())
+    reader.fail(header.line, "truncated binary data: " + std::to_string(layout.bytes) +
+                                 " bytes needed, " + std::to_string(reader.remaining()) +
+                                 " present");
+  return layout;
+}
+
+void skip_to_delimiter(Reader& reader, int start_line, long long dataset) {
+  while (const auto line = reader.next_line()) {
+    if (is_delimiter(*line))
+      return;
+  }
+  reader.fail(start_line, "dataset " + std::to_string(dataset) + " has no end delimiter '    -1'");
+}
+
+void expect_delimiter_after_binary(Reader& reader) {
+  auto line = reader.next_line();
+  // Writers differ: some end the binary block with a newline, some do not.
+  if (line && text::trim(*line).empty())
+    line = reader.next_line();
+  if (!line || !is_delimiter(*line))
+    reader.fail(reader.line() + (line ? 0 : 1),
+                "expected the end delimiter '    -1' after the binary data");
+}
+
+double decode(std::string_view bytes, std::size_t offset, bool is_double, bool little_endian) {
+  const std::size_t size = is_double ? 8 : 4;
+  std::uint64_t bits = 0;
+  for (std::size_t k = 0; k < size; ++k) {
+    const auto byte = static_cast<std::uint64_t>(static_cast<unsigned char>(bytes[offset + k]));
+    bits |= byte << (8 * (little_endian ? k : size - 1 - k));
+  }
+  if (is_double)
+    return std::bit_cast<double>(bits);
+  return static_cast<double>(std::bit_cast<float>(static_cast<std::uint32_t>(bits)));
+}
+
+// One dataset 58 after its "58"/"58b" line; appends it to `out` when it is an FRF.
+void read_dataset_58(Reader& reader, const BinaryHeader& header, int start_line,
+                     const std::optional<UnitFactors>& units, const Uff58ReadOptions& options,
+                     std::vector<UffFrf>& out, std::optional<std::pair<int, long long>>& skipped) {
+  UffFrf result;
+  result.line = start_line;
+  result.frf.label = std::string(text::trim(reader.require_line("record 1 (ID line 1)")));
+  for (std::size_t i = 0; i < result.id_lines.size(); ++i)
+    result.id_lines[i] = std::string(
+        text::trim(reader.require_line("record " + std::to_string(i + 2) + " (ID line)")));
+
+  // Record 6: 2(I5,I10),2(1X,10A1,I10,I4).
+  const std::string_view dof = reader.require_line("record 6 (DOF identification)");
+  const int dof_line = reader.line();
+  require_columns(reader, dof, 80, "record 6");
+  const long long function_type = integer_field(reader, dof, 0, 5, "record 6 function type");
+  result.response_entity = std::string(column(dof, 31, 10));
+  result.response_node =
+      static_cast<int>(integer_field(reader, dof, 41, 10, "record 6 response node"));
+  const long long response_direction =
+      integer_field(reader, dof, 51, 4, "record 6 response direction");
+  result.reference_entity = std::string(column(dof, 56, 10));
+  result.reference_node =
+      static_cast<int>(integer_field(reader, dof, 66, 10, "record 6 reference node"));
+  const long long reference_direction =
+      integer_field(reader, dof, 76, 4, "record 6 reference direction");
+
+  // Record 7: 3I10,3E13.5 (read as blank-separated numbers, so wider fields work).
+  const std::string_view form = reader.require_line("record 7 (data form)");
+  const int form_line = reader.line();
+  const auto tokens = numeric_tokens(form);
+  if (tokens.size() != 6)
+    reader.fail(form_line,
+                "wrong record length: record 7 needs 6 fields (3 integers, 3 reals), got " +
+                    std::to_string(tokens.size()));
+  const auto data_type = parse_integer(tokens[0]);
+  const auto count = parse_integer(tokens[1]);
+  const auto spacing = parse_integer(tokens[2]);
+  const auto min_hz = parse_real(tokens[3]);
+  const auto increment_hz = parse_real(tokens[4]);
+  if (!data_type || !count || !spacing || !min_hz || !increment_hz || !parse_real(tokens[5]))
+    reader.fail(form_line, "record 7: non-numeric field in " + shown(form));
+  if (*count < 1 || *count > kMaxPoints)
+    reader.fail(form_line, "record 7: number of points " + std::to_string(*count) + " outside 1.." +
+                               std::to_string(kMaxPoints));
+  if (*spacing != 0 && *spacing != 1)
+    reader.fail(form_line, "record 7: abscissa spacing must be 0 (uneven) or 1 (even), got " +
+                               std::to_string(*spacing));
+  if (*data_type != 2 && *data_type != 4 && *data_type != 5 && *data_type != 6)
+    reader.fail(form_line, "record 7: unknown ordinate data type " + std::to_string(*data_type) +
+                               " (2, 4 real; 5, 6 complex)");
+  const bool is_double = *data_type == 4 || *data_type == 6;
+  const bool is_complex = *data_type == 5 || *data_type == 6;
+  const bool even = *spacing == 1;
+
+  const AxisRecord abscissa = read_axis_record(reader, "record 8");
+  const AxisRecord numerator = read_axis_record(reader, "record 9");
+  const AxisRecord denominator = read_axis_record(reader, "record 10");
+  read_axis_record(reader, "record 11");
+
+  if (function_type != 4) {
+    // Spectra, coherences, time histories: not FRFs; skipped.
+    if (!skipped)
+      skipped = std::make_pair(dof_line, function_type);
+    if (header.binary) {
+      reader.take_bytes(binary_layout(reader, header, *count, even, is_double, is_complex).bytes);
+      expect_delimiter_after_binary(reader);
+    } else {
+      skip_to_delimiter(reader, start_line, 58);
+    }
+    return;
+  }
+
+  if (!is_complex)
+    reader.fail(form_line, "record 7: an FRF needs complex ordinates (data type 5 or 6), got " +
+                               std::to_string(*data_type));
+  if (even && (!std::isfinite(*min_hz) || *min_hz < 0.0 || !std::isfinite(*increment_hz) ||
+               (*count > 1 && !(*increment_hz > 0.0))))
+    reader.fail(form_line,
+                "record 7: even spacing needs a finite minimum >= 0 Hz and a positive "
+                "increment");
+  if (abscissa.specific_type != 18 && abscissa.specific_type != 0)
+    reader.fail(abscissa.line, "unknown abscissa type " + std::to_string(abscissa.specific_type) +
+                                   " (expected 18 = frequency in Hz)");
+  if (denominator.specific_type != 13 && denominator.specific_type != 9 &&
+      denominator.specific_type != 0)
+    reader.fail(denominator.line,
+                "the FRF denominator must be a force (specific data type 13), "
+                "got " +
+                    std::to_string(denominator.specific_type));
+  result.frf.kind = ordinate_kind(reader, numerator, options);
+  double sign = 1.0;
+  result.frf.response_axis =
+      axis_of(reader, dof_line, response_direction, options.response_axis, "response", sign);
+  result.frf.reference_axis =
+      axis_of(reader, dof_line, reference_direction, options.reference_axis, "reference", sign);
+
+  Points points;
+  points.even = even;
+  points.min_hz = *min_hz;
+  points.increment_hz = *increment_hz;
+  points.factor = sign * ordinate_scale(reader, numerator, denominator, units, options);
+  points.frf = &result.frf;
+  const std::size_t stride = even ? 2 : 3;
+  const auto expected = static_cast<std::size_t>(*count) * stride;
+  // Reserve no more than the remaining bytes could hold (a value takes >= 2).
+  const std::size_t plausible =
+      std::min(static_cast<std::size_t>(*count), reader.remaining() / (2 * stride) + 1);
+  result.frf.frequency_hz.reserve(plausible);
+  result.frf.value.reserve(plausible);
+
+  if (header.binary) {
+    const BinaryLayout layout = binary_layout(reader, header, *count, even, is_double, true);
+    const int data_line = reader.line() + 1;
+    const std::string_view block = reader.take_bytes(layout.bytes);
+    std::size_t offset = 0;
+    for (std::size_t i = 0; i < expected; ++i) {
+      const std::size_t size = layout.slot_bytes[i % stride];
+      points.add(reader, data_line, decode(block, offset, size == 8, header.byte_order == 1));
+      offset += size;
+    }
+    expect_delimiter_after_binary(reader);
+  } else {
+    while (true) {
+      const auto line = reader.next_line();
+      if (!line || is_delimiter(*line)) {
+        if (points.index < expected || !line)
+          reader.fail(line ? reader.line() : reader.line() + 1,
+                      "truncated data: record 7 declares " + std::to_string(*count) + " points (" +
+                          std::to_string(expected) + " values), found " +
+                          std::to_string(points.index) + " values" +
+                          (line ? "" : " and no end delimiter"));
+        break;
+      }
+      for (const std::string_view token : numeric_tokens(*line)) {
+        if (points.index == expected)
+          reader.fail(reader.line(), "more values than the " + std::to_string(*count) +
+                                         " points record 7 declares");
+        const auto value = parse_real(token);
+        if (!value)
+          reader.fail(reader.line(), "non-numeric value " + shown(token));
+        points.add(reader, reader.line(), *value);
+      }
+    }
+  }
+  try {
+    dynamics::validate(result.frf);
+  } catch (const std::invalid_argument& error) {
+    reader.fail(start_line, error.what());
+  }
+  out.push_back(std::move(result));
+}
+
+std::optional<UnitFactors> read_dataset_164(Reader& reader, int start_line) {
+  reader.require_line("dataset 164 record 1 (units code)");
+  const std::string_view factors_line = reader.require_line("dataset 164 record 2 (unit factors)");
+  const auto tokens = numeric_tokens(factors_line);
+  std::optional<double> length, force;
+  if (tokens.size() >= 2) {
+    length = parse_real(tokens[0]);
+    force = parse_real(tokens[1]);
+  }
+  if (!length || !force || !std::isfinite(*length) || !std::isfinite(*force) || !(*length > 0.0) ||
+      !(*force > 0.0))
+    reader.fail(
+        reader.line(),
+        "dataset 164: expected positive length and force unit factors, got " + shown(factors_line));
+  skip_to_delimiter(reader, start_line, 164);
+  return UnitFactors{*length, *force};
+}
+
+BinaryHeader parse_dataset_line(const Reader& reader, std::string_view line, long long& number) {
+  line = text::trim(line);
+  std::size_t digits = 0;
+  while (digits < line.size() && line[digits] >= '0' && line[digits] <= '9')
+    ++digits;
+  const auto parsed = parse_integer(line.substr(0, digits));
+  if (!parsed)
+    reader.fail(reader.line(), "expected a dataset number after '    -1', got " + shown(line));
+  number = *parsed;
+  BinaryHeader header;
+  header.line = reader.line();
+  const std::string_view rest = line.substr(digits);
+  if (rest.empty())
+    return header;
+  if (rest[0] != 'b' && rest[0] != 'B')
+    reader.fail(reader.line(), "unexpected text after the dataset number: " + shown(line));
+  header.binary = true;
+  const auto fields = numeric_tokens(rest.substr(1));
+  std::vector<long long> values;
+  for (const std::string_view field : fields) {
+    const auto value = parse_integer(field);
+    if (!value)
+      reader.fail(reader.line(), "binary header: non-numeric field " + shown(field));
+    values.push_back(*value);
+  }
+  if (values.size() < 4)
+    reader.fail(reader.line(),
+                "wrong record length: the binary header needs byte order, "
+                "floating-point format, ASCII line count and byte count");
+  if (values[0] != 1 && values[0] != 2)
+    reader.fail(reader.line(),
+                "binary header: byte order must be 1 (little endian) or 2 (big "
+                "endian), got " +
+                    std::to_string(values[0]));
+  if (values[1] != 2)
+    reader.fail(reader.line(), "binary header: floating-point format " + std::to_string(values[1]) +
+                                   " is not 2 (IEEE 754)");
+  if (number == 58 && values[2] != 11)
+    reader.fail(reader.line(), "binary header: dataset 58b has 11 ASCII lines, header says " +
+                                   std::to_string(values[2]));
+  if (values[3] < 0)
+    reader.fail(reader.line(), "binary header: negative byte count");
+  header.byte_order = values[0];
+  header.bytes = values[3];
+  header.ascii_lines = values[2];
+  return header;
+}
+
+std::string sanitized(std::string_view text, std::size_t width, const char* empty) {
+  std::string out(text.substr(0, width));
+  for (char& c : out) {
+    if (static_cast<unsigned char>(c) < 32 || c == 127)
+      c = ' ';
+  }
+  return text::trim(out).empty() ? std::string(empty) : out;
+}
+
+// 17 significant digits in 25 columns: enough to restore every double exactly.
+void append_real(std::string& out, double value) {
+  char buffer[40];
+  const auto result =
+      std::to_chars(buffer, buffer + sizeof buffer, value, std::chars_format::scientific, 16);
+  const std::string_view number(buffer, static_cast<std::size_t>(result.ptr - buffer));
+  out.append(number.size() < 25 ? 25 - number.size() : 1, ' ');
+  for (const char c : number)
+    out += c == 'e' ? 'E' : c;
+}
+
+void append_line(std::string& out, const char* format, auto... args) {
+  char buffer[160];
+  const int written = std::snprintf(buffer, sizeof buffer, format, args...);
+  out.append(buffer, static_cast<std::size_t>(std::clamp(written, 0, 159)));
+  out += '\n';
+}
+
+void append_little_endian(std::string& out, double value) {
+  const auto bits = std::bit_cast<std::uint64_t>(value);
+  for (int k = 0; k < 8; ++k)
+    out += static_cast<char>((bits >> (8 * k)) & 0xFF);
+}
+
+}  // namespace
+
+std::vector<UffFrf> parse_uff58(std::string_view bytes, std::string_view source_name,
+                                const Uff58ReadOptions& options) {
+  if (options.ordinate_scale_to_si &&
+      (!std::isfinite(*options.ordinate_scale_to_si) || !(*options.ordinate_scale_to_si > 0.0)))
+    throw std::invalid_argument("UFF ordinate scale to SI must be positive and finite");
+  Reader reader(bytes, source_name);
+  std::vector<UffFrf> frfs;
+  std::optional<UnitFactors> units;
+  std::optional<std::pair<int, long long>> skipped;  // first non-FRF dataset 58
+  bool any_58 = false;
+  while (const auto line = reader.next_line()) {
+    if (text::trim(*line).empty())
+      continue;
+    if (!is_delimiter(*line))
+      reader.fail(reader.line(), "expected the dataset delimiter '    -1', got " + shown(*line));
+    const int start_line = reader.line();
+    long long number = 0;
+    const BinaryHeader header =
+        parse_dataset_line(reader, reader.require_line("a dataset number"), number);
+    if (number == 58) {
+      any_58 = true;
+      read_dataset_58(reader, header, start_line, units, options, frfs, skipped);
+    } else if (number == 164 && !header.binary) {
+      units = read_dataset_164(reader, start_line);
+    } else if (header.binary) {
+      // Another binary dataset: its ASCII lines, its bytes, the delimiter.
+      for (long long i = 0; i < header.ascii_lines; ++i)
+        reader.require_line("dataset " + std::to_string(number) + " ASCII line");
+      if (header.bytes > static_cast<long long>(reader.remaining()))
+        reader.fail(header.line, "truncated binary data");
+      reader.take_bytes(static_cast<std::size_t>(header.bytes));
+      expect_delimiter_after_binary(reader);
+    } else {
+      skip_to_delimiter(reader, start_line, number);
+    }
+  }
+  if (frfs.empty()) {
+    if (skipped)
+      reader.fail(skipped->first, "no frequency response function in the file: function type " +
+                                      std::to_string(skipped->second) + " is not 4 (FRF)");
+    reader.fail(0, any_58 ? "no frequency response function in the file"
+                          : "no dataset 58 (function at nodal DOF) in the file");
+  }
+  return frfs;
+}
+
+std::vector<UffFrf> read_uff58(const std::filesystem::path& file, const Uff58ReadOptions& options) {
+  std::error_code error;
+  const auto size = std::filesystem::file_size(file, error);
+  if (!error && size > kMaxFileBytes)
+    throw InputError(file.string(), 0, "file larger than 1 GiB");
+  std::ifstream stream(file, std::ios::binary);
+  if (!stream || error)
+    throw InputError(file.string(), 0, "cannot open file");
+  std::string bytes(static_cast<std::size_t>(size), '\0');
+  stream.read(bytes.data(), static_cast<std::streamsize>(size));
+  bytes.resize(static_cast<std::size_t>(stream.gcount()));
+  return parse_uff58(bytes, file.string(), options);
+}
+
+std::string format_uff58(const std::vector<UffFrf>& frfs, UffEncoding encoding) {
+  static constexpr const char* kOrdinate[][2] = {
+      {"Displacement", "m"}, {"Velocity", "m/s"}, {"Acceleration", "m/s^2"}};
+  static constexpr int kOrdinateType[] = {8, 11, 12};
+  std::string out;
+  // Dataset 164: the SI unit system, so that tools relying on it read SI.
+  out += "    -1\n   164\n";
+  append_line(out, "%10d%-20s%10d", 1, "SI - m (newton)", 2);
+  out += "  1.00000000000000000D+00  1.00000000000000000D+00  1.00000000000000000D+00\n";
+  out += "  2.73150000000000000D+02\n    -1\n";
+  for (std::size_t n = 0; n < frfs.size(); ++n) {
+    const UffFrf& uff = frfs[n];
+    const dynamics::Frf& frf = uff.frf;
+    dynamics::validate(frf);
+    if (uff.response_node < -999'999'999 || uff.reference_node < -999'999'999)
+      throw std::invalid_argument("UFF node numbers must fit 10 columns");
+    const std::size_t count = frf.frequency_hz.size();
+    // Even spacing only where the reader's min + i·increment restores each frequency exactly.
+    const double min_hz = frf.frequency_hz.front();
+    const double increment_hz = count > 1 ? frf.frequency_hz[1] - min_hz : 0.0;
+    bool even = count > 1;
+    for (std::size_t i = 0; even && i < count; ++i)
+      even = min_hz + static_cast<double>(i) * increment_hz == frf.frequency_hz[i];
+    const std::size_t values = count * (even ? 2 : 3);
+    const bool binary = encoding == UffEncoding::binary;
+    out += "    -1\n";
+    if (binary)
+      append_line(out, "%6d%c%6d%6d%12d%12zu%6d%6d%12d%12d", 58, 'b', 1, 2, 11, values * 8, 0, 0, 0,
+                  0);
+    else
+      out += "    58\n";
+    append_line(out, "%s", sanitized(frf.label, 80, "NONE").c_str());
+    for (const std::string& id : uff.id_lines)
+      append_line(out, "%s", sanitized(id, 80, "NONE").c_str());
+    append_line(out, "%5d%10zu%5d%10d %-10s%10d%4d %-10s%10d%4d", 4, n + 1, 0, 0,
+                sanitized(uff.response_entity, 10, "NONE").c_str(), uff.response_node,
+                frf.response_axis + 1, sanitized(uff.reference_entity, 10, "NONE").c_str(),
+                uff.reference_node, frf.reference_axis + 1);
+    append_line(out, "%10d%10zu%10d", 6, count, even ? 1 : 0);
+    out.pop_back();
+    append_real(out, even ? min_hz : 0.0);
+    append_real(out, even ? increment_hz : 0.0);
+    out += "  0.00000E+00\n";
+    const auto kind = static_cast<std::size_t>(frf.kind);
+    append_line(out, "%10d%5d%5d%5d %-20s %-20s", 18, 0, 0, 0, "Frequency", "Hz");
+    append_line(out, "%10d%5d%5d%5d %-20s %-20s", kOrdinateType[kind], 1, 0, 0, kOrdinate[kind][0],
+                kOrdinate[kind][1]);
+    append_line(out, "%10d%5d%5d%5d %-20s %-20s", 13, 0, 1, 0, "Force", "N");
+    append_line(out, "%10d%5d%5d%5d %-20s %-20s", 0, 0, 0, 0, "NONE", "NONE");
+    for (std::size_t i = 0; i < count; ++i) {
+      const double point[3] = {frf.frequency_hz[i], frf.value[i].real(), frf.value[i].imag()};
+      for (std::size_t k = even ? 1 : 0; k < 3; ++k) {
+        if (binary)
+          append_little_endian(out, point[k]);
+        else
+          append_real(out, point[k]);
+      }
+      if (!binary)
+        out += '\n';
+    }
+    // After binary data the spec wants the delimiter with no line break between.
+    out += "    -1\n";
+  }
+  return out;
+}
+
+void write_uff58(const std::filesystem::path& file, const std::vector<UffFrf>& frfs,
+                 UffEncoding encoding) {
+  write_file_atomically(file, format_uff58(frfs, encoding));
+}
+
+}  // namespace robomill::io
