@@ -45,8 +45,7 @@ dynamics::FrfKind kind_option(const std::string& text) {
     return dynamics::FrfKind::mobility;
   if (text == "accelerance")
     return dynamics::FrfKind::accelerance;
-  throw InputError("--kind", 0,
-                   "'" + text + "': expected receptance, mobility or accelerance");
+  throw InputError("--kind", 0, "'" + text + "': expected receptance, mobility or accelerance");
 }
 
 }  // namespace
@@ -56,30 +55,51 @@ int run_frf(const FrfCommandOptions& options) {
   io::require(job, {io::Section::modes});
   const dynamics::ModalModel modes = io::modal_model(job);
 
-  // Default grid: from 0 to 1.5 × the highest mode, with 10 points in the
-  // half-power band 2ζfn of the sharpest mode, so every peak is resolved.
+  // Default grid: linear from 0 to 1.5 × the highest mode, with 10 points in
+  // the half-power band 2ζfn of the sharpest mode, so every peak is resolved;
+  // or log-spaced, which resolves every peak alike with far fewer points when
+  // the modes span decades (a robot's 20 Hz and its tool's 5 kHz).
   double sharpest_band_hz = INFINITY;
   for (const dynamics::Mode& mode : modes.modes())
     sharpest_band_hz =
         std::min(sharpest_band_hz, 2.0 * mode.damping_ratio * mode.natural_frequency_hz);
-  const double from_hz = options.from.empty() ? 0.0 : frequency_option("--from", options.from);
+  const bool log_spacing = options.spacing == "log";
+  if (!log_spacing && options.spacing != "linear")
+    throw InputError("--spacing", 0, "'" + options.spacing + "': expected linear or log");
+  const double default_from_hz =
+      log_spacing ? 0.5 * modes.modes().front().natural_frequency_hz : 0.0;
+  const double from_hz =
+      options.from.empty() ? default_from_hz : frequency_option("--from", options.from);
   const double to_hz = options.to.empty() ? 1.5 * modes.highest_frequency_hz()
                                           : frequency_option("--to", options.to);
-  const double step_hz =
-      options.step.empty() ? sharpest_band_hz / 10.0 : frequency_option("--step", options.step);
   if (!(to_hz > from_hz))
     throw InputError("--to", 0, fmt::format("must exceed --from ({:g} Hz)", from_hz));
-  if (!(step_hz > 0.0))
-    throw InputError("--step", 0, "must be positive");
-  const double points = std::floor((to_hz - from_hz) / step_hz + 1e-9) + 1.0;
-  if (points > 2e6)
-    throw InputError("--step", 0,
-                     fmt::format("gives {:.0f} frequencies; at most 2 000 000", points));
+  std::vector<double> grid;
+  if (log_spacing) {
+    if (!(from_hz > 0.0))
+      throw InputError("--from", 0, "a log-spaced grid needs --from > 0 Hz");
+    if (options.points < 2 || options.points > 2000000)
+      throw InputError("--points", 0, "must lie in 2 … 2 000 000");
+    grid.resize(static_cast<std::size_t>(options.points));
+    for (std::size_t i = 0; i < grid.size(); ++i)
+      grid[i] = from_hz * std::pow(to_hz / from_hz,
+                                   static_cast<double>(i) / static_cast<double>(grid.size() - 1));
+    grid.back() = to_hz;
+  } else {
+    const double step_hz =
+        options.step.empty() ? sharpest_band_hz / 10.0 : frequency_option("--step", options.step);
+    if (!(step_hz > 0.0))
+      throw InputError("--step", 0, "must be positive");
+    const double points = std::floor((to_hz - from_hz) / step_hz + 1e-9) + 1.0;
+    if (points > 2e6)
+      throw InputError("--step", 0,
+                       fmt::format("gives {:.0f} frequencies; at most 2 000 000", points));
+    grid.resize(static_cast<std::size_t>(points));
+    for (std::size_t i = 0; i < grid.size(); ++i)
+      grid[i] = from_hz + static_cast<double>(i) * step_hz;
+  }
   if (!(options.noise >= 0.0 && options.noise <= 1.0))
     throw InputError("--noise", 0, "relative noise must lie in [0, 1] (0.02 is 2 %)");
-  std::vector<double> grid(static_cast<std::size_t>(points));
-  for (std::size_t i = 0; i < grid.size(); ++i)
-    grid[i] = from_hz + static_cast<double>(i) * step_hz;
   const dynamics::FrfKind kind = kind_option(options.kind);
 
   // A driving-point FRF for every direction some mode moves.
@@ -107,9 +127,8 @@ int run_frf(const FrfCommandOptions& options) {
   std::vector<std::string> files;
   if (options.format == "csv") {
     for (const io::UffFrf& entry : frfs) {
-      const std::string name =
-          fmt::format("frf_{}{}.csv", "xyz"[entry.frf.response_axis],
-                      "xyz"[entry.frf.reference_axis]);
+      const std::string name = fmt::format("frf_{}{}.csv", "xyz"[entry.frf.response_axis],
+                                           "xyz"[entry.frf.reference_axis]);
       bundle.add(name, io::format_frf_csv(entry.frf));
       files.push_back(name);
     }
@@ -127,7 +146,7 @@ int run_frf(const FrfCommandOptions& options) {
                             {"kind", dynamics::kind_name(kind)},
                             {"from_hz", from_hz},
                             {"to_hz", grid.back()},
-                            {"step_hz", step_hz},
+                            {"spacing", options.spacing},
                             {"points", grid.size()},
                             {"noise_relative", options.noise},
                             {"seed", options.seed},
@@ -137,9 +156,8 @@ int run_frf(const FrfCommandOptions& options) {
     bundle.add("summary.json", io::summary_text(summary));
   bundle.commit();
   if (!options.job.quiet) {
-    std::cout << fmt::format("frf: {} FRF(s), {} points {:g}-{:g} Hz, noise {:g} %\n",
-                             frfs.size(), grid.size(), from_hz, grid.back(),
-                             100.0 * options.noise)
+    std::cout << fmt::format("frf: {} FRF(s), {} points {:g}-{:g} Hz, noise {:g} %\n", frfs.size(),
+                             grid.size(), from_hz, grid.back(), 100.0 * options.noise)
               << "  written to " << out.string() << '\n';
   }
   return 0;

@@ -12,9 +12,11 @@
 
 #include "commands.hpp"
 #include "robomill/core/error.hpp"
+#include "robomill/dynamics/measured_receptance.hpp"
 #include "robomill/dynamics/modal_model.hpp"
 #include "robomill/io/csv.hpp"
 #include "robomill/io/output_bundle.hpp"
+#include "robomill/io/structure.hpp"
 #include "robomill/io/summary.hpp"
 #include "robomill/stability/lobes.hpp"
 #include "robomill/stability/process_damping.hpp"
@@ -174,7 +176,7 @@ const Limit& nearest_limit(const std::vector<Limit>& limits, double spindle_rad_
   });
 }
 
-nlohmann::json experiment_check(const io::Job& job, const dynamics::ModalModel& modes,
+nlohmann::json experiment_check(const io::Job& job, const dynamics::ModalModel* modes,
                                 const std::vector<Limit>& limits) {
   nlohmann::json tests = nlohmann::json::array();
   int agree = 0, compared = 0;
@@ -190,9 +192,10 @@ nlohmann::json experiment_check(const io::Job& job, const dynamics::ModalModel& 
       const Limit& nearest = nearest_limit(limits, e.spindle_rad_s);
       if (nearest.limited)
         entry["chatter_freq_hz"] = nearest.chatter_frequency_hz;
-      if (nearest.mode >= 0) {
+      if (nearest.mode >= 0 && modes) {
         entry["governing_mode"] = nearest.mode + 1;
-        entry["governing_mode_fn_hz"] = modes.natural_rad_s()(nearest.mode) / (2.0 * std::numbers::pi);
+        entry["governing_mode_fn_hz"] =
+            modes->natural_rad_s()(nearest.mode) / (2.0 * std::numbers::pi);
       }
       ++compared;
       agree += predicted == e.chatter ? 1 : 0;
@@ -205,6 +208,42 @@ nlohmann::json experiment_check(const io::Job& job, const dynamics::ModalModel& 
           {"agree", agree},
           {"compared", compared},
           {"total", job.experiments.size()}};
+}
+
+/// The zero-order diagram straight from the measured FRFs: the measured
+/// frequencies are the chatter-frequency grid, the FRFs (interpolated between
+/// them) the receptance; no modal fit is involved.
+std::vector<Limit> measured_frf_diagram(const io::Job& job, const std::vector<double>& speeds) {
+  const dynamics::MeasuredReceptance receptance(io::load_measured_frfs(job));
+  std::vector<double> grid_rad_s;
+  for (const double f : receptance.frequencies_hz())
+    grid_rad_s.push_back(2.0 * std::numbers::pi * f);
+  const Eigen::Matrix3d a0 = stability::mean_cutting_stiffness_per_depth(
+      tool::Tool(*job.tool), *job.cutting, *job.process);
+  const stability::ZeroOrderSolver solver(a0, job.tool->teeth, receptance, std::move(grid_rad_s),
+                                          job.stability->depth_max_m);
+  std::vector<Limit> limits;
+  for (const auto& z : solver.limits(speeds)) {
+    limits.push_back({z.spindle_rad_s, z.depth_limit_m, z.limited, z.chatter_frequency_hz,
+                      z.limited ? "hopf" : "none", -1});
+  }
+  return limits;
+}
+
+/// The parser checks the time step against the modal table; fitted modes are
+/// known only now: two steps per period of the highest one.
+void check_discretization(const io::Job& job, const dynamics::ModalModel& modes) {
+  const Settings& settings = *job.stability;
+  if (settings.method == Settings::Method::zoa)
+    return;
+  const double tau_max = 2.0 * std::numbers::pi / (job.tool->teeth * settings.speed_from_rad_s);
+  const double needed = std::ceil(2.0 * modes.highest_frequency_hz() * tau_max * (1.0 - 1e-12));
+  if (settings.discretization < needed) {
+    throw InputError("stability.discretization", 0,
+                     fmt::format("{} steps per tooth period are too coarse for the fitted {:g} Hz "
+                                 "mode: at least {:.0f} needed (or method zoa)",
+                                 settings.discretization, modes.highest_frequency_hz(), needed));
+  }
 }
 
 nlohmann::json diagram_summary(const std::vector<Limit>& limits) {
@@ -230,8 +269,8 @@ nlohmann::json diagram_summary(const std::vector<Limit>& limits) {
 
 int run_stability(const JobCommandOptions& options) {
   const io::Job job = load(options);
-  io::require(job, {io::Section::tool, io::Section::cutting, io::Section::process,
-                    io::Section::modes, io::Section::stability});
+  io::require(
+      job, {io::Section::tool, io::Section::cutting, io::Section::process, io::Section::stability});
   const Settings& settings = *job.stability;
   if (settings.process_damping == Settings::Damping::energy_balance &&
       settings.method != Settings::Method::zoa) {
@@ -245,11 +284,15 @@ int run_stability(const JobCommandOptions& options) {
   }
 
   const auto start = std::chrono::steady_clock::now();
-  const dynamics::ModalModel modes = io::modal_model(job);
-  const stability::RegenerativeModel model(tool::Tool(*job.tool), *job.cutting, *job.process,
-                                           modes);
   const std::vector<double> speeds = stability::linear_range(
       settings.speed_from_rad_s, settings.speed_to_rad_s, settings.speed_count);
+  const bool measured = job.dynamics_source == io::Job::DynamicsSource::frf;
+  std::optional<dynamics::ModalModel> modes;
+  if (!measured) {
+    modes = io::structure_modes(job);
+    if (job.dynamics_source == io::Job::DynamicsSource::fit)
+      check_discretization(job, *modes);
+  }
   stability::LobeOptions lobe_options;
   lobe_options.method = floquet_method(settings.method);
   lobe_options.steps = settings.discretization;
@@ -266,16 +309,22 @@ int run_stability(const JobCommandOptions& options) {
   const bool want_envelope = settings.modes != Settings::Modes::coupled;
   std::vector<Limit> coupled, envelope;
   std::optional<stability::StabilityMap> map;
-  if (settings.method == Settings::Method::zoa) {
+  if (measured) {
+    coupled = measured_frf_diagram(job, speeds);
+  } else if (settings.method == Settings::Method::zoa) {
+    const stability::RegenerativeModel model(tool::Tool(*job.tool), *job.cutting, *job.process,
+                                             *modes);
     if (want_coupled)
       coupled = zero_order_diagram(model, settings, speeds, false, options.threads);
     if (want_envelope)
       envelope = zero_order_diagram(model, settings, speeds, true, options.threads);
   } else {
+    const stability::RegenerativeModel model(tool::Tool(*job.tool), *job.cutting, *job.process,
+                                             *modes);
     if (want_coupled)
       coupled = floquet_diagram(model, lobe_options, speeds);
     if (want_envelope)
-      envelope = floquet_envelope(job, modes, lobe_options, speeds);
+      envelope = floquet_envelope(job, *modes, lobe_options, speeds);
     if (settings.mode == Settings::Mode::map) {
       const auto depths = stability::linear_range(settings.depth_max_m / settings.depth_count,
                                                   settings.depth_max_m, settings.depth_count);
@@ -301,19 +350,22 @@ int run_stability(const JobCommandOptions& options) {
       {"modes", settings.modes == Settings::Modes::coupled    ? "coupled"
                 : settings.modes == Settings::Modes::envelope ? "envelope"
                                                               : "both"},
-      {"mode_count", modes.size()},
+      {"dynamics", measured                                              ? "frf"
+                   : job.dynamics_source == io::Job::DynamicsSource::fit ? "fit"
+                                                                         : "table"},
+      {"mode_count", modes ? modes->size() : 0},
       {"process_damping", settings.process_damping == Settings::Damping::none ? "none"
                           : settings.process_damping == Settings::Damping::energy_balance
                               ? "energy_balance"
                               : "linear_equivalent"},
-      {"experiments", experiment_check(job, modes, primary)},
+      {"experiments", experiment_check(job, modes ? &*modes : nullptr, primary)},
   };
   if (settings.method != Settings::Method::zoa)
     summary["discretization"] = settings.discretization;
   summary.update(diagram_summary(primary));
   if (want_coupled && want_envelope) {
     summary["envelope"] = diagram_summary(envelope);
-    summary["envelope"]["experiments"] = experiment_check(job, modes, envelope);
+    summary["envelope"]["experiments"] = experiment_check(job, &*modes, envelope);
   }
   if (map) {
     summary["map"] = {{"speeds", map->spindle_rad_s.size()},

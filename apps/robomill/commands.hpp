@@ -31,6 +31,7 @@ std::filesystem::path output_dir(const JobCommandOptions& options, const io::Job
 int run_validate(const JobCommandOptions& options);
 int run_forces(const JobCommandOptions& options);
 int run_stability(const JobCommandOptions& options);
+int run_fit_modes(const JobCommandOptions& options);
 
 struct IdentifyOptions {
   std::filesystem::path data_file;
@@ -46,7 +47,9 @@ int run_identify_cutting(const IdentifyOptions& options);
 /// `robomill frf JOB`: FRFs synthesized from the job's modal table.
 struct FrfCommandOptions {
   JobCommandOptions job;
-  std::string from, to, step;  ///< frequencies as typed ("10 Hz"); empty: automatic
+  std::string from, to, step;      ///< frequencies as typed ("10 Hz"); empty: automatic
+  std::string spacing = "linear";  ///< linear (from, to, step) or log (from, to, points)
+  int points = 5000;               ///< log spacing
   std::string kind = "receptance";
   std::string format = "uff58";  ///< uff58, uff58b or csv
   double noise = 0.0;            ///< relative complex noise (0.02 = 2 %)

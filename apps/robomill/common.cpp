@@ -34,7 +34,7 @@ int run_validate(const JobCommandOptions& options) {
     add(job.tool.has_value(), "tool");
     add(job.cutting.has_value(), "cutting");
     add(job.process.has_value(), "process");
-    add(!job.modes.empty(), "dynamics");
+    add(!job.modes.empty() || !job.frf_files.empty(), "dynamics");
     add(job.stability.has_value(), "stability");
     add(!job.experiments.empty(), "experiments");
     if (!sections.empty())

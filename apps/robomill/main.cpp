@@ -53,6 +53,13 @@ int main(int argc, char** argv) {
       "stability lobe diagram: limiting depth per spindle speed → sld.csv (map.csv), summary.json");
   add_job_options(*stability, stability_options, true);
 
+  robomill::app::JobCommandOptions fit_options;
+  CLI::App* fit = app.add_subcommand(
+      "fit-modes",
+      "modal parameters from the job's measured FRFs (dynamics.frf) → modes.csv, frf_fit.csv, "
+      "stabilization.csv, modes.yaml, summary.json");
+  add_job_options(*fit, fit_options, true);
+
   robomill::app::IdentifyOptions identify_options;
   CLI::App* identify = app.add_subcommand(
       "identify-cutting",
@@ -88,9 +95,10 @@ int main(int argc, char** argv) {
   frf->add_option("--to", frf_options.to, "highest frequency (default 1.5 x the highest mode)");
   frf->add_option("--step", frf_options.step,
                   "frequency step (default: a tenth of the narrowest half-power band)");
+  frf->add_option("--spacing", frf_options.spacing, "linear (default) or log");
+  frf->add_option("--points", frf_options.points, "frequencies of a log grid (default 5000)");
   frf->add_option("--kind", frf_options.kind, "receptance (default), mobility or accelerance");
-  frf->add_option("--format", frf_options.format,
-                  "uff58 (ASCII, default), uff58b (binary) or csv");
+  frf->add_option("--format", frf_options.format, "uff58 (ASCII, default), uff58b (binary) or csv");
   frf->add_option("--noise", frf_options.noise,
                   "relative complex noise, e.g. 0.02 for 2 % of |H| (default 0)");
   frf->add_option("--seed", frf_options.seed, "seed of the noise (default 1)");
@@ -111,6 +119,8 @@ int main(int argc, char** argv) {
       return robomill::app::run_stability(stability_options);
     if (identify->parsed())
       return robomill::app::run_identify_cutting(identify_options);
+    if (fit->parsed())
+      return robomill::app::run_fit_modes(fit_options);
     if (frf->parsed())
       return robomill::app::run_frf(frf_options);
   } catch (const robomill::InputError& error) {

@@ -48,8 +48,7 @@ MeasuredReceptance::MeasuredReceptance(std::vector<Frf> frfs) {
 }
 
 Eigen::Matrix3cd MeasuredReceptance::operator()(double omega_rad_s) const {
-  const double frequency_hz =
-      std::clamp(omega_rad_s / (2.0 * std::numbers::pi), min_hz_, max_hz_);
+  const double frequency_hz = std::clamp(omega_rad_s / (2.0 * std::numbers::pi), min_hz_, max_hz_);
   Eigen::Matrix3cd h = Eigen::Matrix3cd::Zero();
   for (int r = 0; r < 3; ++r) {
     for (int s = 0; s < 3; ++s) {

@@ -10,7 +10,8 @@ namespace robomill::dynamics {
 
 Mode directional_mode(int axis, double natural_frequency_hz, double damping_ratio,
                       double stiffness_n_per_m) {
-  if (axis < 0 || axis > 2) throw std::invalid_argument("mode axis must be 0, 1 or 2");
+  if (axis < 0 || axis > 2)
+    throw std::invalid_argument("mode axis must be 0, 1 or 2");
   if (!(stiffness_n_per_m > 0.0) || !std::isfinite(stiffness_n_per_m)) {
     throw std::invalid_argument("modal stiffness must be positive");
   }
@@ -24,7 +25,8 @@ Mode directional_mode(int axis, double natural_frequency_hz, double damping_rati
 }
 
 ModalModel::ModalModel(std::vector<Mode> modes) : modes_(std::move(modes)) {
-  if (modes_.empty()) throw std::invalid_argument("a modal model needs at least one mode");
+  if (modes_.empty())
+    throw std::invalid_argument("a modal model needs at least one mode");
   for (std::size_t i = 0; i < modes_.size(); ++i) {
     const Mode& m = modes_[i];
     const std::string which = "mode " + std::to_string(i + 1) + ": ";
@@ -42,7 +44,8 @@ ModalModel::ModalModel(std::vector<Mode> modes) : modes_(std::move(modes)) {
 
 double ModalModel::highest_frequency_hz() const noexcept {
   double highest = 0.0;
-  for (const Mode& m : modes_) highest = std::max(highest, m.natural_frequency_hz);
+  for (const Mode& m : modes_)
+    highest = std::max(highest, m.natural_frequency_hz);
   return highest;
 }
 
@@ -59,7 +62,8 @@ Eigen::Matrix3cd ModalModel::receptance(double omega_rad_s) const noexcept {
 
 Eigen::Matrix<double, 3, Eigen::Dynamic> ModalModel::shape_matrix() const {
   Eigen::Matrix<double, 3, Eigen::Dynamic> shapes(3, size());
-  for (int i = 0; i < size(); ++i) shapes.col(i) = modes_[static_cast<std::size_t>(i)].shape;
+  for (int i = 0; i < size(); ++i)
+    shapes.col(i) = modes_[static_cast<std::size_t>(i)].shape;
   return shapes;
 }
 
@@ -73,14 +77,16 @@ Eigen::VectorXd ModalModel::natural_rad_s() const {
 
 Eigen::VectorXd ModalModel::damping_ratios() const {
   Eigen::VectorXd zeta(size());
-  for (int i = 0; i < size(); ++i) zeta[i] = modes_[static_cast<std::size_t>(i)].damping_ratio;
+  for (int i = 0; i < size(); ++i)
+    zeta[i] = modes_[static_cast<std::size_t>(i)].damping_ratio;
   return zeta;
 }
 
 ModalModel ModalModel::subset(const std::vector<int>& indices) const {
   std::vector<Mode> chosen;
   for (int index : indices) {
-    if (index < 0 || index >= size()) throw std::invalid_argument("mode index out of range");
+    if (index < 0 || index >= size())
+      throw std::invalid_argument("mode index out of range");
     chosen.push_back(modes_[static_cast<std::size_t>(index)]);
   }
   return ModalModel(std::move(chosen));

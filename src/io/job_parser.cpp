@@ -1219,6 +1219,16 @@ std::optional<StabilitySettings> read_stability(SectionReader& root,
            "dynamics.use is 'frf' (measured FRFs directly), which only the zero-order method "
            "(zoa) can use; set method: zoa, or dynamics.use: fit for the time-domain methods");
   }
+  if (source == Job::DynamicsSource::frf && settings.modes != Settings::Modes::coupled) {
+    r.fail("modes",
+           "the envelope of one-mode diagrams needs modes; with dynamics.use: frf the measured "
+           "FRFs are used whole (modes: coupled), or set dynamics.use: fit");
+  }
+  if (source == Job::DynamicsSource::frf && settings.process_damping != Settings::Damping::none) {
+    r.fail("process_damping",
+           "process damping is added per mode (003 §3.2) and needs modes; with measured FRFs "
+           "use dynamics.use: fit");
+  }
   if (modes.empty() && source == Job::DynamicsSource::table) {
     r.fail_here(
         "the stability command needs dynamics.modes (the structure's modal table) or measured "

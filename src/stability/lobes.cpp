@@ -151,8 +151,8 @@ void find_limit(Evaluate&& evaluate, double hint, double delay_s, const dynamics
   int continued = 0;
   // Step 1: continuation probes around the previous speed's limit.
   if (hint > 0.0) {
-    for (const double depth : {hint * (1.0 - window), std::min(hint * (1.0 + window),
-                                                                options.depth_max_m)}) {
+    for (const double depth :
+         {hint * (1.0 - window), std::min(hint * (1.0 + window), options.depth_max_m)}) {
       Probe probe{depth, evaluate(depth)};
       if (probe.unstable()) {
         unstable = probe;
@@ -190,8 +190,8 @@ void find_limit(Evaluate&& evaluate, double hint, double delay_s, const dynamics
   double g_unstable = upper.result.spectral_radius - 1.0;
   int side = 0;  // which end the last step kept: −1 stable, +1 unstable
   while (upper.depth_m - stable.depth_m > options.depth_tolerance * upper.depth_m) {
-    double depth = (stable.depth_m * g_unstable - upper.depth_m * g_stable) /
-                   (g_unstable - g_stable);
+    double depth =
+        (stable.depth_m * g_unstable - upper.depth_m * g_stable) / (g_unstable - g_stable);
     const double width = upper.depth_m - stable.depth_m;
     // Keep the new point strictly inside, away from the ends by a small share.
     depth = std::clamp(depth, stable.depth_m + 0.01 * width, upper.depth_m - 0.01 * width);

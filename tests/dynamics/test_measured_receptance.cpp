@@ -56,8 +56,7 @@ TEST(MeasuredReceptance, RejectsDuplicatesAndDisjointRanges) {
                std::invalid_argument);
   EXPECT_THROW(MeasuredReceptance({}), std::invalid_argument);
   // H_xy and H_yx both measured is fine: each fills its own entry.
-  EXPECT_NO_THROW(
-      MeasuredReceptance({synthesize(model, 0, 1, low), synthesize(model, 1, 0, low)}));
+  EXPECT_NO_THROW(MeasuredReceptance({synthesize(model, 0, 1, low), synthesize(model, 1, 0, low)}));
 }
 
 }  // namespace

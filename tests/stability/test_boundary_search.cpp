@@ -43,16 +43,15 @@ TEST(BoundarySearch, ContinuationFindsTheSameLimits) {
     const auto plain = stability::stability_boundary(model, speeds, options);
     for (std::size_t i = 0; i < speeds.size(); ++i) {
       ASSERT_EQ(continued[i].limited, plain[i].limited);
-      EXPECT_NEAR(continued[i].depth_limit_m, plain[i].depth_limit_m,
-                  2e-3 * plain[i].depth_limit_m)
+      EXPECT_NEAR(continued[i].depth_limit_m, plain[i].depth_limit_m, 2e-3 * plain[i].depth_limit_m)
           << "a/D " << immersion << ", speed " << i;
       EXPECT_EQ(continued[i].bifurcation, plain[i].bifurcation) << "a/D " << immersion << ", " << i;
     }
     // A measurement, not a property: the predictor saves solves only where the
     // limits vary smoothly at the speed spacing (docs/theory.md).
     std::cout << "[benchmark] a/D " << immersion << ": Floquet solves for 400 limits, "
-              << total_evaluations(continued) << " with continuation, "
-              << total_evaluations(plain) << " without\n";
+              << total_evaluations(continued) << " with continuation, " << total_evaluations(plain)
+              << " without\n";
   }
 }
 
@@ -87,8 +86,8 @@ TEST(BoundarySearch, NoUnstableDepthBelowTheLimitInADenseMap) {
   const auto map = stability::stability_map(model, speeds, depths, options);
   for (std::size_t i = 0; i < speeds.size(); ++i) {
     for (std::size_t j = 0; j < depths.size(); ++j) {
-      const bool unstable = map.spectral_radius(static_cast<Eigen::Index>(i),
-                                                static_cast<Eigen::Index>(j)) >= 1.0;
+      const bool unstable =
+          map.spectral_radius(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) >= 1.0;
       if (depths[j] < limits[i].depth_limit_m * (1.0 - 1e-3)) {
         EXPECT_FALSE(unstable) << "speed " << i << ": unstable at " << depths[j] * 1e3
                                << " mm below the limit " << limits[i].depth_limit_m * 1e3;

@@ -31,7 +31,7 @@ struct LobeOptions {
   /// default: on the benchmark's 200-400 speeds it saves at most 7 % of the
   /// solves and costs up to 9 % elsewhere (the coarse island scan dominates).
   bool continuation = false;
-  int threads = 0;         ///< 0: all cores
+  int threads = 0;                                      ///< 0: all cores
   std::optional<LinearProcessDamping> process_damping;  ///< none by default
 };
 
@@ -49,8 +49,8 @@ struct LobePoint {
 
 /// The limiting depth at each speed, the shallowest depth where the spectral
 /// radius reaches 1: optional continuation probes either side of the limit
-/// extrapolated from the previous speeds bracket the crossing; a coarse scan of (0, depth_max] in `coarse_points`
-/// steps below it finds any shallower crossing (islands, the next lobe); a
+/// extrapolated from the previous speeds bracket the crossing; a coarse scan of (0, depth_max] in
+/// `coarse_points` steps below it finds any shallower crossing (islands, the next lobe); a
 /// safeguarded regula falsi (Illinois) narrows the bracket to
 /// `depth_tolerance`. Speeds are processed in fixed chunks of 16 that continue
 /// from speed to speed, in parallel, so results are in the order of

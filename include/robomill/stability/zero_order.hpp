@@ -114,7 +114,8 @@ Eigen::Matrix3d mean_cutting_stiffness_per_depth(const RegenerativeModel& model,
 Eigen::Matrix3d mean_cutting_stiffness_per_depth(const tool::Tool& tool,
                                                  const cutting::CuttingLaw& law,
                                                  const cutting::MillingProcess& process,
-                                                 int samples = 4096, double reference_depth_m = 0.0);
+                                                 int samples = 4096,
+                                                 double reference_depth_m = 0.0);
 
 /// The chatter-frequency grid (rad/s, sorted, unique) for the given peaks.
 std::vector<double> chatter_frequency_grid_rad_s(const std::vector<FrfPeak>& peaks,
