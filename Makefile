@@ -22,7 +22,9 @@ build: setup
 demo: build
 	./$(BUILD)/robomill forces examples/demo.yaml --out out/demo/forces
 	./$(BUILD)/robomill stability examples/demo.yaml --out out/demo/stability
-	@echo "demo: results in out/demo/forces (forces.csv, summary.json) and out/demo/stability (sld.csv, sld_envelope.csv, summary.json)"
+	./$(BUILD)/robomill fit-modes examples/003_kr270_measured_frf.yaml --out out/demo/fit-modes
+	./$(BUILD)/robomill stability examples/003_kr270_measured_frf.yaml --out out/demo/measured-stability
+	@echo "demo: results in out/demo/forces (forces.csv, summary.json), out/demo/stability (sld.csv, sld_envelope.csv, summary.json), out/demo/fit-modes (modes.csv, frf_fit.csv, modes.yaml) and out/demo/measured-stability (sld.csv from the fitted modes)"
 
 # The fuzz run comes before the sanitizer tests so that ctest's summary closes the output.
 test: test-release fuzz test-sanitize

@@ -102,19 +102,29 @@ int run_frf(const FrfCommandOptions& options) {
     throw InputError("--noise", 0, "relative noise must lie in [0, 1] (0.02 is 2 %)");
   const dynamics::FrfKind kind = kind_option(options.kind);
 
-  // A driving-point FRF for every direction some mode moves.
+  // A driving-point FRF for every direction some mode moves, and a cross FRF
+  // for every pair of directions some mode moves together.
   std::vector<io::UffFrf> frfs;
   const Eigen::Matrix<double, 3, Eigen::Dynamic> shapes = modes.shape_matrix();
-  for (int axis = 0; axis < 3; ++axis) {
-    if (shapes.row(axis).cwiseAbs().maxCoeff() == 0.0)
-      continue;
+  std::vector<std::pair<int, int>> pairs;
+  for (int r = 0; r < 3; ++r) {
+    if (shapes.row(r).cwiseAbs().maxCoeff() > 0.0)
+      pairs.emplace_back(r, r);
+  }
+  for (int r = 0; r < 3; ++r) {
+    for (int s = r + 1; s < 3; ++s) {
+      if (shapes.row(r).cwiseProduct(shapes.row(s)).cwiseAbs().maxCoeff() > 0.0)
+        pairs.emplace_back(r, s);
+    }
+  }
+  for (const auto& [response, reference] : pairs) {
     io::UffFrf entry;
-    entry.frf = dynamics::synthesize(modes, axis, axis, grid, kind);
-    // Each direction its own seed, so adding a direction leaves the others' data.
+    entry.frf = dynamics::synthesize(modes, response, reference, grid, kind);
+    // Each FRF its own seed, so adding one leaves the others' data unchanged.
     if (options.noise > 0.0)
       dynamics::add_relative_noise(entry.frf, options.noise,
-                                   options.seed + static_cast<std::uint32_t>(axis));
-    const std::string direction(2, "xyz"[axis]);
+                                   options.seed + static_cast<std::uint32_t>(3 * response + reference));
+    const std::string direction{"xyz"[response], "xyz"[reference]};
     entry.frf.label = fmt::format("H{} {} of {}", direction, dynamics::kind_name(kind),
                                   job.name.empty() ? job.source.filename().string() : job.name);
     entry.id_lines[0] = fmt::format("robomill frf: {} modes, noise {:g} %, seed {}", modes.size(),

@@ -1,8 +1,10 @@
 // Job helpers that do not touch YAML: file loading, --set syntax, path
 // resolution and section requirements. The parser itself is job_parser.cpp.
 
+#include <cmath>
 #include <fstream>
 #include <iterator>
+#include <numbers>
 #include <string>
 #include <system_error>
 
@@ -139,9 +141,14 @@ dynamics::ModalModel modal_model(const Job& job) {
   std::vector<dynamics::Mode> modes;
   modes.reserve(job.modes.size());
   for (const ModeSpec& spec : job.modes) {
-    const int axis = spec.direction == 'x' ? 0 : spec.direction == 'y' ? 1 : 2;
-    modes.push_back(dynamics::directional_mode(axis, spec.natural_frequency_hz, spec.damping_ratio,
-                                               spec.stiffness_n_per_m));
+    // Mass-normalized shape e ωn/√k: the mode's modal stiffness k along its
+    // unit direction e (001 Eq 19-22 with φφᵀ = e eᵀ/m).
+    dynamics::Mode mode;
+    mode.natural_frequency_hz = spec.natural_frequency_hz;
+    mode.damping_ratio = spec.damping_ratio;
+    mode.shape = spec.direction_vector * (2.0 * std::numbers::pi * spec.natural_frequency_hz /
+                                          std::sqrt(spec.stiffness_n_per_m));
+    modes.push_back(mode);
   }
   return dynamics::ModalModel(std::move(modes));
 }

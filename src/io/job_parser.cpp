@@ -222,6 +222,11 @@ bool SectionReader::has(std::string_view key) const {
   return find(key) != nullptr;
 }
 
+bool SectionReader::is_list(std::string_view key) const {
+  const Entry* entry = find(key);
+  return entry != nullptr && entry->value.IsSequence();
+}
+
 void SectionReader::fail(std::string_view key, const std::string& message) const {
   const std::string field = path_of(key);
   const Entry* entry = find(key);
@@ -962,7 +967,32 @@ dynamics::AxialShape read_axial_shape(SectionReader& mode) {
 ModeSpec read_mode(SectionReader& m) {
   m.allow({"direction", "fn", "zeta", "k", "m", "shape"});
   ModeSpec mode;
-  mode.direction = m.choice("direction", {"x", "y", "z"})[0];
+  if (m.is_list("direction")) {
+    const auto components = m.texts("direction");
+    // A general direction [dx, dy, dz], normalized: a mode that moves the tip
+    // obliquely couples the directions (cross FRFs H_xy ≠ 0).
+    if (components->size() != 3)
+      m.fail("direction", "a direction vector needs three components [dx, dy, dz]");
+    Eigen::Vector3d v;
+    for (int i = 0; i < 3; ++i) {
+      const auto& item = (*components)[static_cast<std::size_t>(i)];
+      try {
+        std::size_t used = 0;
+        v[i] = std::stod(item.text, &used);
+        if (used != item.text.size() || !std::isfinite(v[i]))
+          throw std::invalid_argument(item.text);
+      } catch (const std::exception&) {
+        throw InputError(item.path, item.line, "'" + item.text + "' is not a finite number");
+      }
+    }
+    if (!(v.norm() > 0.0))
+      m.fail("direction", "the direction vector must not be zero");
+    mode.direction = 'v';
+    mode.direction_vector = v.normalized();
+  } else {
+    mode.direction = m.choice("direction", {"x", "y", "z"})[0];
+    mode.direction_vector = Eigen::Vector3d::Unit(mode.direction - 'x');
+  }
   mode.natural_frequency_hz = m.quantity("fn", field(dimensions::frequency, 1.0, "Hz", kPositive));
   mode.damping_ratio = m.quantity("zeta", dimensionless(kPositive, Bound{1.0, false}));
   const auto k = m.optional_quantity("k", field(dimensions::stiffness, 1.0, "N/m", kPositive));

@@ -80,6 +80,9 @@ class SectionReader {
              std::string_view unsupported_message = {}, std::string_view context = {});
 
   bool has(std::string_view key) const;
+  /// True when the key is present and holds a list (for fields that take
+  /// either a word or a list, such as a mode's direction).
+  bool is_list(std::string_view key) const;
 
   double quantity(std::string_view key, const QuantityField& field);
   std::optional<double> optional_quantity(std::string_view key, const QuantityField& field);

@@ -62,6 +62,31 @@ TEST(DynamicsSection, ShapeAlongTheToolGivesTheTipMass) {
   EXPECT_NEAR(mode.stiffness_n_per_m, omega * omega / (tip * tip), 1e-6);
 }
 
+// A mode moving the tip obliquely couples x and y: H_xy = e_x e_y / (m (ωn² − ω² + 2iζωnω)).
+TEST(DynamicsSection, ModeAlongAGeneralDirectionCouplesTheAxes) {
+  const Job job = parse_job(R"(dynamics:
+  modes:
+    - {direction: [3, 4, 0], fn: 100 Hz, zeta: 0.02, k: 1e6 N/m}
+    - {direction: z, fn: 300 Hz, zeta: 0.02, m: 2 kg}
+)",
+                            "job.yaml");
+  EXPECT_EQ(job.modes[0].direction, 'v');
+  EXPECT_NEAR(job.modes[0].direction_vector.x(), 0.6, 1e-15);
+  EXPECT_NEAR(job.modes[0].direction_vector.y(), 0.8, 1e-15);
+  const auto modes = robomill::io::modal_model(job);
+  // Static compliance (ω → 0): H = e eᵀ / k for the first mode.
+  const Eigen::Matrix3cd h = modes.receptance(1e-9);
+  EXPECT_NEAR(h(0, 1).real(), 0.6 * 0.8 / 1e6, 1e-15);
+  EXPECT_NEAR(h(0, 0).real(), 0.36 / 1e6, 1e-15);
+  EXPECT_NEAR(h(2, 2).real(), 1.0 / (2.0 * std::pow(2.0 * std::numbers::pi * 300.0, 2)), 1e-15);
+  expect_error("dynamics:\n  modes: [{direction: [1, 0], fn: 1 Hz, zeta: 0.1, k: 1 N/m}]\n",
+               "dynamics.modes[0].direction", 2, "three components");
+  expect_error("dynamics:\n  modes: [{direction: [0, 0, 0], fn: 1 Hz, zeta: 0.1, k: 1 N/m}]\n",
+               "dynamics.modes[0].direction", 2, "must not be zero");
+  expect_error("dynamics:\n  modes: [{direction: [1, a, 0], fn: 1 Hz, zeta: 0.1, k: 1 N/m}]\n",
+               "dynamics.modes[0].direction[1]", 2, "not a finite number");
+}
+
 TEST(DynamicsSection, FrfFilesWithUnitsFormatsAndAxes) {
   const Job job = parse_job(R"(dynamics:
   frf:

@@ -25,7 +25,10 @@ struct ForcesSettings {
 
 /// One structural mode in a modal table (`dynamics.modes`, 000 Table 2, 003 Tab. 1).
 struct ModeSpec {
-  char direction = 'x';  ///< 'x', 'y' or 'z' (tool frame)
+  char direction = 'x';  ///< 'x', 'y' or 'z' (tool frame); 'v' for a general direction
+  /// Unit vector of the mode's motion at the tip (tool frame): e_x, e_y, e_z,
+  /// or any direction (`direction: [0.8, 0.6, 0]`), which couples x and y.
+  Eigen::Vector3d direction_vector = Eigen::Vector3d::UnitX();
   double natural_frequency_hz = 0.0;
   double damping_ratio = 0.0;
   double stiffness_n_per_m = 0.0;  ///< modal stiffness at the tool tip; from m or the shape
