@@ -9,6 +9,7 @@
 #include <numbers>
 #include <string>
 
+#include "expect_input_error.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/io/job.hpp"
 
@@ -20,25 +21,8 @@ using robomill::io::FrfFileSpec;
 using robomill::io::Job;
 using robomill::io::parse_job;
 
-InputError parse_error(const std::string& yaml) {
-  try {
-    parse_job(yaml, "/data/cell/job.yaml");
-  } catch (const InputError& error) {
-    return error;
-  }
-  ADD_FAILURE() << "accepted:\n" << yaml;
-  return InputError("", 0, "");
-}
-
-void expect_error(const std::string& yaml, const std::string& field, int line,
-                  const std::string& fragment) {
-  SCOPED_TRACE(yaml);
-  const InputError error = parse_error(yaml);
-  EXPECT_EQ(error.field(), field) << error.what();
-  EXPECT_EQ(error.line(), line) << error.what();
-  EXPECT_NE(std::string(error.what()).find(fragment), std::string::npos)
-      << "message: " << error.what() << "\nexpected to contain: " << fragment;
-}
+using robomill::test::expect_error;
+using robomill::test::parse_error;
 
 // 000 Table 2, mode x: fn 2060.49 Hz, ζ 2.37 %, shape 3.232, 2.264, 1.738,
 // 1.075 1/√kg at 3, 12, 24, 36 mm from the free end.

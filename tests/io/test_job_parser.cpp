@@ -10,6 +10,7 @@
 #include <string>
 #include <variant>
 
+#include "expect_input_error.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/io/job.hpp"
 
@@ -63,28 +64,8 @@ output:
   formats: [csv, json]
 )";
 
-// Parses `yaml` and returns the InputError it must raise.
-InputError parse_error(const std::string& yaml,
-                       const std::vector<robomill::io::Override>& set = {}) {
-  try {
-    parse_job(yaml, "job.yaml", set);
-  } catch (const InputError& error) {
-    return error;
-  }
-  ADD_FAILURE() << "accepted:\n" << yaml;
-  return InputError("", 0, "");
-}
-
-// The error names `field`, `line` and a message containing `fragment`.
-void expect_error(const std::string& yaml, const std::string& field, int line,
-                  const std::string& fragment) {
-  SCOPED_TRACE(yaml);
-  const InputError error = parse_error(yaml);
-  EXPECT_EQ(error.field(), field) << error.what();
-  EXPECT_EQ(error.line(), line) << error.what();
-  EXPECT_NE(std::string(error.what()).find(fragment), std::string::npos)
-      << "message: " << error.what() << "\nexpected to contain: " << fragment;
-}
+using robomill::test::expect_error;
+using robomill::test::parse_error;
 
 constexpr const char* kTool = "tool:\n  diameter: 10\n  teeth: 2\n";  // lines 1-3
 
@@ -427,7 +408,8 @@ TEST(JobValidation, CrossFieldChecks) {
   expect_error("process:\n  spindle: 6000\n  feed_rate: 600\n  ap: 1\n  ae: 2\n",
                "process.feed_rate", 3, "needs the number of teeth");
   expect_error("dynamics:\n  modes:\n    - {direction: x, fn: 100, zeta: 0.02, k: 1e6, m: 2}\n",
-               "dynamics.modes[0].m", 3, "give one of k (modal stiffness), m (modal mass) or shape");
+               "dynamics.modes[0].m", 3,
+               "give one of k (modal stiffness), m (modal mass) or shape");
   expect_error("dynamics:\n  modes: []\n", "dynamics.modes", 2, "at least one mode");
 }
 

@@ -7,6 +7,7 @@
 #include <numbers>
 #include <string>
 
+#include "expect_input_error.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/io/job.hpp"
 
@@ -38,25 +39,8 @@ std::string with_stability(const std::string& section) {
 constexpr const char* kMinimal =
     "  speeds: {from: 5000 rpm, to: 25000 rpm, count: 200}\n  depth_max: 10 mm\n";
 
-InputError parse_error(const std::string& yaml) {
-  try {
-    parse_job(yaml, "job.yaml");
-  } catch (const InputError& error) {
-    return error;
-  }
-  ADD_FAILURE() << "accepted:\n" << yaml;
-  return InputError("", 0, "");
-}
-
-void expect_error(const std::string& yaml, const std::string& field, int line,
-                  const std::string& fragment) {
-  SCOPED_TRACE(yaml);
-  const InputError error = parse_error(yaml);
-  EXPECT_EQ(error.field(), field) << error.what();
-  EXPECT_EQ(error.line(), line) << error.what();
-  EXPECT_NE(std::string(error.what()).find(fragment), std::string::npos)
-      << "message: " << error.what() << "\nexpected to contain: " << fragment;
-}
+using robomill::test::expect_error;
+using robomill::test::parse_error;
 
 TEST(StabilitySection, CompleteSectionReachesSIValues) {
   const Job job = parse_job(with_stability(R"(  method: sdm

@@ -15,9 +15,9 @@
 //          for noise up to 1 % — a hammer test averaging four 2 % hits.
 //   finding, printed and documented (docs/validation.md): with 2 % noise in
 //          every point the direct diagram deviates by up to 3.6 % because
-//          ZOA's limit follows the noisy Re G near the tool mode's peak, while the fit averages the noise over the band and
-//          stays within 1 % of the exact diagram; the 3 % holds there for the
-//          fitted modes, not for the raw 2 %-noise FRF.
+//          ZOA's limit follows the noisy Re G near the tool mode's peak, while the fit averages the
+//          noise over the band and stays within 1 % of the exact diagram; the 3 % holds there for
+//          the fitted modes, not for the raw 2 %-noise FRF.
 
 #include <gtest/gtest.h>
 
@@ -126,8 +126,8 @@ TEST_F(MeasuredDynamics, BundledTwoPercentNoiseMeasurementFitsToTheExactDiagram)
 // must give back fn within 0.5 %, ζ within 10 % and the tip modal mass
 // 1/ψ(0)² within 10 % (the tolerances for the 003 fit).
 TEST(MeasuredDynamicsPaper000, Table2FromTheBundledHammerTest) {
-  const io::Job job = io::load_job(std::string(ROBOMILL_SOURCE_DIR) +
-                                   "/examples/000_kr600_multipoint.yaml");
+  const io::Job job =
+      io::load_job(std::string(ROBOMILL_SOURCE_DIR) + "/examples/000_kr600_multipoint.yaml");
   const io::StructureFit fit = io::fit_structure(job, io::load_measured_frfs(job));
   ASSERT_EQ(fit.modes.size(), 2);
   for (std::size_t i = 0; i < 2; ++i) {
@@ -135,10 +135,9 @@ TEST(MeasuredDynamicsPaper000, Table2FromTheBundledHammerTest) {
     const dynamics::Mode& fitted = fit.modes.modes()[i];
     const double mass_kg = 1.0 / fitted.shape.squaredNorm();
     std::cout << "[validation] 000 Table 2 mode " << truth.direction << ": fn "
-              << truth.natural_frequency_hz << " -> " << fitted.natural_frequency_hz
-              << " Hz, zeta " << 100 * truth.damping_ratio << " -> "
-              << 100 * fitted.damping_ratio << " %, tip mass " << truth.mass_kg << " -> "
-              << mass_kg << " kg\n";
+              << truth.natural_frequency_hz << " -> " << fitted.natural_frequency_hz << " Hz, zeta "
+              << 100 * truth.damping_ratio << " -> " << 100 * fitted.damping_ratio
+              << " %, tip mass " << truth.mass_kg << " -> " << mass_kg << " kg\n";
     EXPECT_NEAR(fitted.natural_frequency_hz, truth.natural_frequency_hz,
                 0.005 * truth.natural_frequency_hz);
     EXPECT_NEAR(fitted.damping_ratio, truth.damping_ratio, 0.10 * truth.damping_ratio);

@@ -33,17 +33,23 @@ namespace {
 
 using namespace robomill;
 
+/// 003 §3.1's energy-balance process damping with the job's Ksp, wear land, μ.
+stability::ProcessDamping energy_balance_damping(const io::Job& job) {
+  stability::ProcessDamping damping;
+  damping.model = stability::ProcessDampingModel::energy_balance;
+  damping.indentation_n_per_m3 = job.stability->indentation_n_per_m3;
+  damping.wear_land_m = job.stability->wear_land_m;
+  damping.friction = job.stability->friction;
+  return damping;
+}
+
 TEST(Paper003, RobotModesGovernLowSpeedsAndTheToolModeHighSpeeds) {
   const io::Job job =
       io::load_job(std::string(ROBOMILL_SOURCE_DIR) + "/examples/003_kr270_process_damping.yaml",
                    {{"process.ae", "6 mm"}});
   const stability::RegenerativeModel model(tool::Tool(*job.tool), *job.cutting, *job.process,
                                            io::modal_model(job));
-  stability::ProcessDamping damping;
-  damping.model = stability::ProcessDampingModel::energy_balance;
-  damping.indentation_n_per_m3 = job.stability->indentation_n_per_m3;
-  damping.wear_land_m = job.stability->wear_land_m;
-  damping.friction = job.stability->friction;
+  const stability::ProcessDamping damping = energy_balance_damping(job);
   stability::ProcessDampedOptions options;
   options.method = stability::MultiModeMethod::envelope;
   options.zero_order.depth_max_m = 10e-3;
@@ -95,17 +101,13 @@ TEST(Paper003, RobotModesGovernLowSpeedsAndTheToolModeHighSpeeds) {
 //          which the coupled diagram reproduces: it calls 0.25-0.75 mm
 //          unstable. The truth (0.75-1.0 mm) lies between the two diagrams.
 TEST(Paper003, Table2SlotTestsAgainstTheCoupledDiagramAndTheEnvelope) {
-  const io::Job job = io::load_job(std::string(ROBOMILL_SOURCE_DIR) +
-                                   "/examples/003_kr270_process_damping.yaml");
+  const io::Job job =
+      io::load_job(std::string(ROBOMILL_SOURCE_DIR) + "/examples/003_kr270_process_damping.yaml");
   const dynamics::ModalModel modes = io::modal_model(job);
   auto model_of = [&](const dynamics::ModalModel& m) {
     return stability::RegenerativeModel(tool::Tool(*job.tool), *job.cutting, *job.process, m);
   };
-  stability::ProcessDamping damping;
-  damping.model = stability::ProcessDampingModel::energy_balance;
-  damping.indentation_n_per_m3 = job.stability->indentation_n_per_m3;
-  damping.wear_land_m = job.stability->wear_land_m;
-  damping.friction = job.stability->friction;
+  const stability::ProcessDamping damping = energy_balance_damping(job);
   stability::ProcessDampedOptions options;
   options.zero_order.depth_max_m = 10e-3;
   auto limit_at = [&](const dynamics::ModalModel& m, stability::MultiModeMethod method,
@@ -156,8 +158,8 @@ TEST(Paper003, Table2SlotTestsAgainstTheCoupledDiagramAndTheEnvelope) {
   const auto x1 = limit_at(modes.subset({0}), stability::MultiModeMethod::coupled, 1660);
   const auto y1 = limit_at(modes.subset({3}), stability::MultiModeMethod::coupled, 1660);
   std::cout << "[validation] 003 at 1660 rpm: X1+Y1 together " << pair.depth_limit_m * 1e3
-            << " mm at " << pair.chatter_frequency_hz << " Hz; X1 alone "
-            << x1.depth_limit_m * 1e3 << " mm, Y1 alone " << y1.depth_limit_m * 1e3 << " mm\n";
+            << " mm at " << pair.chatter_frequency_hz << " Hz; X1 alone " << x1.depth_limit_m * 1e3
+            << " mm, Y1 alone " << y1.depth_limit_m * 1e3 << " mm\n";
   EXPECT_LT(pair.depth_limit_m, 0.25e-3);
   EXPECT_GT(pair.chatter_frequency_hz, 15.0);
   EXPECT_LT(pair.chatter_frequency_hz, 25.0);
