@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -47,8 +48,10 @@ int run_fit_modes(const JobCommandOptions& options) {
   const double elapsed_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-  io::CsvTable modes_table({"frf", "mode", "fn_hz", "zeta", "k_N_per_m", "m_kg", "band_low_hz",
-                            "band_high_hz", "fit_error", "assurance", "contribution"});
+  // DESIGN.md's public columns first: direction,fn_hz,zeta,k_N_per_m.
+  io::CsvTable modes_table({"direction", "fn_hz", "zeta", "k_N_per_m", "m_kg", "frf", "mode",
+                            "band_low_hz", "band_high_hz", "fit_error", "assurance",
+                            "contribution"});
   io::CsvTable fit_table(
       {"frf", "freq_hz", "measured_re", "measured_im", "fitted_re", "fitted_im"});
   io::CsvTable stabilization_table(
@@ -58,6 +61,8 @@ int run_fit_modes(const JobCommandOptions& options) {
       "'s measured FRFs;\n# paste under dynamics: (or set dynamics.use: fit to refit each run).\n"
       "modes:\n";
   nlohmann::json fits = nlohmann::json::array();
+  nlohmann::json all_modes = nlohmann::json::array();
+  double worst_error = 0.0;
   for (std::size_t f = 0; f < structure.fits.size(); ++f) {
     const dynamics::Frf& frf = structure.measured[f];
     const dynamics::ModalFit& fit = structure.fits[f];
@@ -65,9 +70,15 @@ int run_fit_modes(const JobCommandOptions& options) {
     nlohmann::json modes = nlohmann::json::array(), rejected = nlohmann::json::array();
     for (std::size_t i = 0; i < fit.modes.size(); ++i) {
       const dynamics::FittedMode& m = fit.modes[i];
-      modes_table.add_cells({name, static_cast<double>(i + 1), m.natural_frequency_hz,
-                             m.damping_ratio, m.stiffness_n_per_m, m.mass_kg, m.band_low_hz,
-                             m.band_high_hz, m.fit_error, m.assurance, m.contribution});
+      modes_table.add_cells({std::string(1, "xyz"[frf.response_axis]), m.natural_frequency_hz,
+                             m.damping_ratio, m.stiffness_n_per_m, m.mass_kg, name,
+                             static_cast<double>(i + 1), m.band_low_hz, m.band_high_hz, m.fit_error,
+                             m.assurance, m.contribution});
+      all_modes.push_back({{"direction", std::string(1, "xyz"[frf.response_axis])},
+                           {"fn_hz", m.natural_frequency_hz},
+                           {"zeta", m.damping_ratio},
+                           {"k_N_per_m", m.stiffness_n_per_m},
+                           {"fit_error", m.fit_error}});
       modes.push_back(mode_json(m));
       if (m.stiffness_n_per_m > 0.0) {
         snippet +=
@@ -94,6 +105,7 @@ int run_fit_modes(const JobCommandOptions& options) {
     nlohmann::json bands = nlohmann::json::array();
     for (const dynamics::FitBand& b : fit.bands_used)
       bands.push_back({{"from_hz", b.low_hz}, {"to_hz", b.high_hz}, {"max_order", b.max_order}});
+    worst_error = std::max(worst_error, fit.overall_error);
     fits.push_back({{"frf", name},
                     {"kind", dynamics::kind_name(frf.kind)},
                     {"points", frf.frequency_hz.size()},
@@ -108,7 +120,8 @@ int run_fit_modes(const JobCommandOptions& options) {
                             {"elapsed_s", elapsed_s},
                             {"frfs_read", measured.size()},
                             {"frfs_fitted", structure.fits.size()},
-                            {"modes", structure.modes.size()},
+                            {"modes", all_modes},
+                            {"fit_error", worst_error},
                             {"fits", fits}};
   const std::filesystem::path out = output_dir(options, job, "fit-modes");
   io::OutputBundle bundle(out);

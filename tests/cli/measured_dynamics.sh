@@ -22,12 +22,15 @@ for f in modes.csv frf_fit.csv stabilization.csv modes.yaml summary.json; do
   [ -s "$WORK/fit/$f" ] || fail "fit-modes did not write $f"
 done
 [ "$(head -1 "$WORK/fit/modes.csv")" = \
-  "frf,mode,fn_hz,zeta,k_N_per_m,m_kg,band_low_hz,band_high_hz,fit_error,assurance,contribution" ] \
+  "direction,fn_hz,zeta,k_N_per_m,m_kg,frf,mode,band_low_hz,band_high_hz,fit_error,assurance,contribution" ] \
   || fail "modes.csv header"
 [ "$(head -1 "$WORK/fit/frf_fit.csv")" = "frf,freq_hz,measured_re,measured_im,fitted_re,fitted_im" ] \
   || fail "frf_fit.csv header"
 [ $(($(wc -l < "$WORK/fit/modes.csv") - 1)) -eq 9 ] || fail "expected the nine Tab. 1 modes"
 grep -qi 'nan\|inf' "$WORK/fit/modes.csv" "$WORK/fit/summary.json" && fail "non-finite number"
+for key in modes fit_error; do
+  grep -q "\"$key\"" "$WORK/fit/summary.json" || fail "fit-modes summary.json lacks $key"
+done
 
 # The fitted table pasted into a job reproduces the fitted modes.
 { sed -n '/^name:/,/^dynamics:/p' "$JOB"; sed 's/^/  /' "$WORK/fit/modes.yaml"; } > "$WORK/pasted.yaml"
