@@ -8,9 +8,12 @@
 #include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/yaml.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <numbers>
 #include <sstream>
 #include <stdexcept>
@@ -227,6 +230,11 @@ bool SectionReader::is_list(std::string_view key) const {
   return entry != nullptr && entry->value.IsSequence();
 }
 
+bool SectionReader::is_map(std::string_view key) const {
+  const Entry* entry = find(key);
+  return entry != nullptr && entry->value.IsMap();
+}
+
 void SectionReader::fail(std::string_view key, const std::string& message) const {
   const std::string field = path_of(key);
   const Entry* entry = find(key);
@@ -304,11 +312,21 @@ const std::string& SectionReader::scalar(const Entry& entry, std::string_view ex
 
 double SectionReader::read_quantity(const Entry& entry, const QuantityField& field) const {
   const std::string& text = scalar(entry, expected_quantity(field));
+  std::string problem;
+  const double si = quantity_in_field(text, field, entry.key, problem);
+  if (!problem.empty())
+    fail(entry.key, problem);
+  return si;
+}
+
+double SectionReader::quantity_in_field(const std::string& text, const QuantityField& field,
+                                        std::string_view key, std::string& problem) const {
   Quantity quantity;
   try {
     quantity = parse_quantity(text);
   } catch (const std::invalid_argument& error) {
-    fail(entry.key, error.what());
+    problem = error.what();
+    return 0.0;
   }
   const std::string_view unit = unit_part(text);
   double si = quantity.value_si;
@@ -317,18 +335,43 @@ double SectionReader::read_quantity(const Entry& entry, const QuantityField& fie
     si *= field.unit_si;
   } else if (!(quantity.dimension == field.dimension)) {
     const std::string got = dimension_name(quantity.dimension);
-    fail(entry.key,
-         expected_quantity(field) + ", got " + quote_text(unit) + " (" + article(got) + got + ")");
+    problem =
+        expected_quantity(field) + ", got " + quote_text(unit) + " (" + article(got) + got + ")";
+    return 0.0;
   }
-  if (!std::isfinite(si))
-    fail(entry.key, quote_text(text) + " is out of range");
+  if (!std::isfinite(si)) {
+    problem = quote_text(text) + " is out of range";
+    return 0.0;
+  }
   if (!in_bounds(si, field)) {
     const std::string got = unit.empty() && !field.unit.empty()
                                 ? std::string(trim(text)) + " " + std::string(field.unit)
                                 : std::string(trim(text));
-    fail(entry.key, bounds_requirement(field, entry.key) + ", got " + got);
+    problem = bounds_requirement(field, key) + ", got " + got;
+    return 0.0;
   }
   return si;
+}
+
+std::optional<std::vector<double>> SectionReader::quantities(std::string_view key,
+                                                             const QuantityField& field,
+                                                             std::size_t count) {
+  auto items = texts(key);
+  if (!items)
+    return std::nullopt;
+  if (count > 0 && items->size() != count) {
+    fail(key, "expected a list of " + std::to_string(count) + " values, got " +
+                  std::to_string(items->size()));
+  }
+  std::vector<double> values;
+  values.reserve(items->size());
+  for (const Item& item : *items) {
+    std::string problem;
+    values.push_back(quantity_in_field(item.text, field, key, problem));
+    if (!problem.empty())
+      throw InputError(item.path, item.line, problem + provenance_->note(item.path));
+  }
+  return values;
 }
 
 double SectionReader::quantity(std::string_view key, const QuantityField& field) {
@@ -1049,7 +1092,21 @@ std::optional<int> read_axis(SectionReader& r, std::string_view key) {
   return r.choice(key, {"x", "y", "z"})[0] - 'x';
 }
 
-FrfFileSpec read_frf_file(SectionReader& f, const std::filesystem::path& source) {
+std::filesystem::path job_relative(const std::filesystem::path& source, const std::string& file) {
+  return source.empty() ? std::filesystem::path(file)
+                        : source.parent_path() / std::filesystem::path(file);
+}
+
+/// Format from the extension: .csv is CSV, anything else UFF58 (.uff, .unv).
+FrfFileSpec::Format guessed_format(const std::filesystem::path& file) {
+  std::string extension = file.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension == ".csv" ? FrfFileSpec::Format::csv : FrfFileSpec::Format::uff58;
+}
+
+FrfFileSpec read_frf_file(SectionReader& f, const std::filesystem::path& source,
+                          std::optional<int> direction = std::nullopt) {
   f.allow({"file", "format", "response", "reference", "units"});
   FrfFileSpec spec;
   spec.path = f.path();
@@ -1057,16 +1114,22 @@ FrfFileSpec read_frf_file(SectionReader& f, const std::filesystem::path& source)
   const auto file = f.optional_text("file");
   if (!file || file->empty())
     f.fail("file", "required field missing (path of a UFF58 or CSV file, relative to the job)");
-  spec.file = source.empty() ? std::filesystem::path(*file)
-                             : source.parent_path() / std::filesystem::path(*file);
-  std::string extension = spec.file.extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  const std::string guessed = extension == ".csv" ? "csv" : "uff58";
+  spec.file = job_relative(source, *file);
+  const std::string guessed =
+      guessed_format(spec.file) == FrfFileSpec::Format::csv ? "csv" : "uff58";
   spec.format = f.choice("format", {"uff58", "csv"}, guessed) == "csv" ? FrfFileSpec::Format::csv
                                                                        : FrfFileSpec::Format::uff58;
   spec.response_axis = read_axis(f, "response");
   spec.reference_axis = read_axis(f, "reference");
+  if (direction) {
+    // `frf: {x: {...}}`: the key is the measured direction (a driving point
+    // unless `reference` says otherwise).
+    if (spec.response_axis && *spec.response_axis != *direction)
+      f.fail("response", "contradicts the direction this entry is listed under");
+    spec.response_axis = direction;
+    if (!spec.reference_axis)
+      spec.reference_axis = direction;
+  }
   if (const auto units = f.optional_text("units")) {
     Quantity unit;
     try {
@@ -1133,7 +1196,34 @@ void read_dynamics(SectionReader& root, Job& job) {
     for (SectionReader& m : *items)
       job.modes.push_back(read_mode(m));
   }
-  if (auto files = r.sections("frf")) {
+  if (r.is_map("frf")) {
+    // DESIGN.md's form, one file per measured direction: {x: file, y: file},
+    // each a path or a map with the list form's keys.
+    auto by_direction = r.section("frf");
+    by_direction->allow({"x", "y", "z"});
+    for (const char* key : {"x", "y", "z"}) {
+      const int axis = key[0] - 'x';
+      if (by_direction->is_map(key)) {
+        auto entry = by_direction->section(key);
+        job.frf_files.push_back(read_frf_file(*entry, job.source, axis));
+      } else if (auto file = by_direction->optional_text(key)) {
+        FrfFileSpec spec;
+        spec.path = by_direction->path_of(key);
+        spec.line = by_direction->line_of(key);
+        spec.file = job_relative(job.source, *file);
+        spec.format = guessed_format(spec.file);
+        if (spec.format == FrfFileSpec::Format::csv) {
+          by_direction->fail(key, "a CSV file needs its units: write {file: " + *file +
+                                      ", units: mm/N} (or m/s/N, m/s^2/N)");
+        }
+        spec.response_axis = spec.reference_axis = axis;
+        job.frf_files.push_back(spec);
+      }
+    }
+    by_direction->finish();
+    if (job.frf_files.empty())
+      r.fail("frf", "must name at least one FRF file ({x: file, y: file})");
+  } else if (auto files = r.sections("frf")) {
     if (files->empty())
       r.fail("frf", "must list at least one FRF file");
     for (SectionReader& f : *files)
@@ -1151,6 +1241,222 @@ void read_dynamics(SectionReader& root, Job& job) {
   if (use != "table" && job.frf_files.empty())
     r.fail("use", "is '" + use + "' but dynamics.frf lists no measured FRF file");
   r.finish();
+}
+
+/// `{xyz: [x, y, z], rpy: [roll, pitch, yaw]}` (mm and deg by default): a
+/// frame as a translation and fixed-axis X-Y-Z rotations (URDF's convention).
+Eigen::Isometry3d read_frame(SectionReader& f) {
+  f.allow({"xyz", "rpy"});
+  Eigen::Isometry3d frame = Eigen::Isometry3d::Identity();
+  if (auto xyz = f.quantities("xyz", length_mm({}), 3))
+    frame.translation() = Eigen::Vector3d((*xyz)[0], (*xyz)[1], (*xyz)[2]);
+  if (auto rpy = f.quantities("rpy", field(dimensions::angle, kDeg, "deg"), 3)) {
+    frame.linear() = (Eigen::AngleAxisd((*rpy)[2], Eigen::Vector3d::UnitZ()) *
+                      Eigen::AngleAxisd((*rpy)[1], Eigen::Vector3d::UnitY()) *
+                      Eigen::AngleAxisd((*rpy)[0], Eigen::Vector3d::UnitX()))
+                         .toRotationMatrix();
+  }
+  f.finish();
+  return frame;
+}
+
+Eigen::Vector3d read_direction(SectionReader& r, std::string_view key,
+                               const Eigen::Vector3d& fallback) {
+  const auto v = r.quantities(key, dimensionless(), 3);
+  if (!v)
+    return fallback;
+  const Eigen::Vector3d d((*v)[0], (*v)[1], (*v)[2]);
+  if (!(d.norm() > 0.0))
+    r.fail(key, "the direction must not be zero");
+  return d.normalized();
+}
+
+RobotSettings read_robot_section(SectionReader& r, const std::filesystem::path& source) {
+  r.allow({"name", "dh", "convention", "urdf", "joint_stiffness", "joints", "links",
+           "damping_ratio", "base", "tool", "posture", "frf", "map"});
+  RobotSettings settings;
+  robot::RobotDescription& d = settings.description;
+  d.name = r.optional_text("name").value_or("robot");
+  if (r.has("dh") == r.has("urdf"))
+    r.fail_here("give the geometry either as a DH table (dh:) or as a URDF file (urdf:)");
+  const QuantityField angle = field(dimensions::angle, kDeg, "deg");
+  if (r.has("dh")) {
+    // DESIGN.md: `dh` is a list of {a, alpha, d, theta} rows, theta the joint
+    // offset; `convention` says which DH.
+    robot::DhTable table;
+    table.convention = r.choice("convention", {"standard", "modified"}, "standard") == "modified"
+                           ? robot::DhConvention::modified
+                           : robot::DhConvention::standard;
+    auto rows = r.sections("dh");
+    if (rows->empty())
+      r.fail("dh", "required: one row {a, alpha, d, theta} per joint");
+    for (SectionReader& row : *rows) {
+      row.allow({"a", "alpha", "d", "theta"});
+      robot::DhRow entry;
+      entry.a_m = row.quantity_or("a", length_mm({}), 0.0);
+      entry.alpha_rad = row.quantity_or("alpha", angle, 0.0);
+      entry.d_m = row.quantity_or("d", length_mm({}), 0.0);
+      entry.theta_offset_rad = row.quantity_or("theta", angle, 0.0);
+      row.finish();
+      table.rows.push_back(entry);
+    }
+    d.dh = std::move(table);
+  } else if (r.has("convention")) {
+    r.fail("convention", "applies to a DH table (dh:), not to a URDF file");
+  }
+  if (auto urdf = r.section("urdf")) {
+    urdf->allow({"file", "base", "tip", "limits_from_file"});
+    const auto file = urdf->optional_text("file");
+    if (!file || file->empty())
+      urdf->fail("file", "required field missing (path of the URDF file, relative to the job)");
+    settings.urdf_file = source.empty() ? std::filesystem::path(*file)
+                                        : source.parent_path() / std::filesystem::path(*file);
+    robot::UrdfSource urdf_source;
+    urdf_source.base_link = urdf->optional_text("base").value_or("");
+    urdf_source.tip_link = urdf->optional_text("tip").value_or("");
+    if (urdf_source.base_link.empty())
+      urdf->fail("base", "required field missing (the chain's root link)");
+    if (urdf_source.tip_link.empty())
+      urdf->fail("tip", "required field missing (the flange link)");
+    d.use_urdf_limits = urdf->boolean_or("limits_from_file", true);
+    std::ifstream in(settings.urdf_file, std::ios::binary);
+    if (!in)
+      urdf->fail("file", "cannot read '" + settings.urdf_file.string() + "'");
+    urdf_source.xml.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    urdf->finish();
+    d.urdf = std::move(urdf_source);
+  }
+  // DESIGN.md: `joint_stiffness`, one value per joint (000 §6.1's Kq).
+  const auto stiffness = r.quantities(
+      "joint_stiffness", field(dimensions::rotational_stiffness, 1.0, "N*m/rad", kPositive));
+  if (!stiffness)
+    r.fail("joint_stiffness", "required: the torsional stiffness of every joint, N*m/rad");
+  if (d.dh && stiffness->size() != d.dh->rows.size()) {
+    r.fail("joint_stiffness",
+           fmt::format("lists {} values but dh has {} rows", stiffness->size(), d.dh->rows.size()));
+  }
+  for (const double k : *stiffness) {
+    robot::JointProperties joint;
+    joint.stiffness_nm_per_rad = k;
+    joint.damping_nms_per_rad = robot::kDeriveDamping;
+    d.joints.push_back(joint);
+  }
+  if (auto joints = r.sections("joints")) {
+    if (joints->size() != d.joints.size()) {
+      r.fail("joints", fmt::format("lists {} joints; one per joint ({}) needed", joints->size(),
+                                   d.joints.size()));
+    }
+    for (std::size_t i = 0; i < joints->size(); ++i) {
+      SectionReader& j = (*joints)[i];
+      j.allow({"lower", "upper", "damping"});
+      robot::JointProperties& joint = d.joints[i];
+      joint.lower_rad = j.quantity_or("lower", angle, joint.lower_rad);
+      joint.upper_rad = j.quantity_or("upper", angle, joint.upper_rad);
+      if (!(joint.upper_rad > joint.lower_rad))
+        j.fail("upper", "must exceed lower");
+      joint.damping_nms_per_rad = j.quantity_or(
+          "damping", field(dimensions::rotational_damping, 1.0, "N*m*s/rad", kNonNegative),
+          robot::kDeriveDamping);
+      j.finish();
+    }
+  }
+  if (auto links = r.sections("links")) {
+    if (!d.dh)
+      r.fail("links", "are read from the URDF file; give links only with a DH table");
+    if (links->size() != d.joints.size())
+      r.fail("links", fmt::format("lists {} links; one per joint ({}) needed", links->size(),
+                                  d.joints.size()));
+    for (SectionReader& l : *links) {
+      l.allow({"mass", "cog", "inertia"});
+      robot::LinkInertia link;
+      link.mass_kg = l.quantity("mass", field(dimensions::mass, 1.0, "kg", kNonNegative));
+      if (auto cog = l.quantities("cog", length_mm({}), 3))
+        link.center_of_mass_m = Eigen::Vector3d((*cog)[0], (*cog)[1], (*cog)[2]);
+      if (auto inertia =
+              l.quantities("inertia", field(dimensions::moment_of_inertia, 1.0, "kg*m^2"))) {
+        // [Ixx, Iyy, Izz] (principal axes along the link frame) or
+        // [Ixx, Iyy, Izz, Ixy, Ixz, Iyz], about the centre of mass.
+        const auto& v = *inertia;
+        if (v.size() != 3 && v.size() != 6)
+          l.fail("inertia", "expected [Ixx, Iyy, Izz] or [Ixx, Iyy, Izz, Ixy, Ixz, Iyz] in kg*m^2");
+        link.inertia_kg_m2.diagonal() << v[0], v[1], v[2];
+        if (v.size() == 6) {
+          link.inertia_kg_m2(0, 1) = link.inertia_kg_m2(1, 0) = v[3];
+          link.inertia_kg_m2(0, 2) = link.inertia_kg_m2(2, 0) = v[4];
+          link.inertia_kg_m2(1, 2) = link.inertia_kg_m2(2, 1) = v[5];
+        }
+      }
+      l.finish();
+      d.dh->links.push_back(link);
+    }
+  }
+  d.modal_damping_ratio =
+      r.quantity_or("damping_ratio", dimensionless(kNonNegative, Bound{1.0, false}), 0.0);
+  if (auto base = r.section("base"))
+    d.base = read_frame(*base);
+  if (auto tool = r.section("tool"))
+    d.flange_to_tool = read_frame(*tool);
+  if (auto posture =
+          r.quantities("posture", field(dimensions::angle, kDeg, "deg"), d.joints.size()))
+    settings.posture_rad = *posture;
+  if (auto frf = r.section("frf")) {
+    frf->allow({"from", "to", "points"});
+    settings.frf_from_hz =
+        frf->quantity_or("from", field(dimensions::frequency, 1.0, "Hz", kPositive), 0.0);
+    settings.frf_to_hz =
+        frf->quantity_or("to", field(dimensions::frequency, 1.0, "Hz", kPositive), 0.0);
+    if (settings.frf_from_hz > 0.0 && settings.frf_to_hz > 0.0 &&
+        !(settings.frf_to_hz > settings.frf_from_hz))
+      frf->fail("to", "must exceed from");
+    settings.frf_points = frf->integer_or("points", 2, 1000000, settings.frf_points);
+    frf->finish();
+  }
+  if (auto map = r.section("map")) {
+    map->allow({"from", "to", "counts", "tool_axis", "feed", "redundancy"});
+    RobotSettings::Map grid;
+    const auto from = map->quantities("from", length_mm({}), 3);
+    const auto to = map->quantities("to", length_mm({}), 3);
+    if (!from)
+      map->fail("from", "required: the grid's first corner [x, y, z] in the cell frame");
+    if (!to)
+      map->fail("to", "required: the grid's opposite corner [x, y, z]");
+    grid.from_m = Eigen::Vector3d((*from)[0], (*from)[1], (*from)[2]);
+    grid.to_m = Eigen::Vector3d((*to)[0], (*to)[1], (*to)[2]);
+    if (auto counts = map->texts("counts")) {
+      if (counts->size() != 3)
+        map->fail("counts", "expected three point counts [nx, ny, nz]");
+      for (int i = 0; i < 3; ++i) {
+        const auto& item = (*counts)[static_cast<std::size_t>(i)];
+        int value = 0;
+        try {
+          std::size_t used = 0;
+          value = std::stoi(item.text, &used);
+          if (used != item.text.size())
+            throw std::invalid_argument(item.text);
+        } catch (const std::exception&) {
+          throw InputError(item.path, item.line, "'" + item.text + "' is not an integer");
+        }
+        if (value < 1 || value > 1000)
+          throw InputError(item.path, item.line, "a point count must lie in 1 … 1000");
+        grid.counts[static_cast<std::size_t>(i)] = value;
+      }
+    }
+    if (static_cast<long>(grid.counts[0]) * grid.counts[1] * grid.counts[2] > 1000000)
+      map->fail("counts", "more than 1 000 000 grid points");
+    grid.tool_axis = read_direction(*map, "tool_axis", grid.tool_axis);
+    grid.feed = read_direction(*map, "feed", grid.feed);
+    // The feed lies in the cutting plane: remove its component along the tool axis.
+    grid.feed -= grid.feed.dot(grid.tool_axis) * grid.tool_axis;
+    if (!(grid.feed.norm() > 1e-9))
+      map->fail("feed", "must not be parallel to tool_axis");
+    grid.feed.normalize();
+    grid.redundancy_rad =
+        map->quantity_or("redundancy", field(dimensions::angle, kDeg, "deg"), 0.0);
+    map->finish();
+    settings.map = grid;
+  }
+  r.finish();
+  return settings;
 }
 
 std::optional<StabilitySettings> read_stability(SectionReader& root,
@@ -1386,8 +1692,8 @@ Job read_job(const YAML::Node& root_node, const std::filesystem::path& source,
   const int root_line = provenance.line(root_node, "") > 0 ? provenance.line(root_node, "") : 1;
   SectionReader root(root_node, "", root_line, provenance);
   root.allow({"name", "tool", "cutting", "process", "forces", "dynamics", "stability",
-              "experiments", "output"},
-             {"robot", "simulation", "surface", "optimize"},
+              "experiments", "robot", "output"},
+             {"simulation", "surface", "optimize"},
              "section not supported by this version of robomill");
   Job job;
   job.source = source;
@@ -1399,6 +1705,8 @@ Job read_job(const YAML::Node& root_node, const std::filesystem::path& source,
   read_dynamics(root, job);
   job.stability = read_stability(root, job.tool, job.modes, job.dynamics_source);
   job.experiments = read_experiments(root);
+  if (auto robot = root.section("robot"))
+    job.robot = read_robot_section(*robot, source);
   job.output = read_output(root);
   root.finish();
   return job;

@@ -83,10 +83,16 @@ class SectionReader {
   /// True when the key is present and holds a list (for fields that take
   /// either a word or a list, such as a mode's direction).
   bool is_list(std::string_view key) const;
+  bool is_map(std::string_view key) const;
 
   double quantity(std::string_view key, const QuantityField& field);
   std::optional<double> optional_quantity(std::string_view key, const QuantityField& field);
   double quantity_or(std::string_view key, const QuantityField& field, double default_si);
+
+  /// A list of quantities (`xyz: [0, 0, 250 mm]`), each with its unit or in
+  /// the field's; `count` > 0 requires that many. Errors name the item.
+  std::optional<std::vector<double>> quantities(std::string_view key, const QuantityField& field,
+                                                std::size_t count = 0);
 
   int integer(std::string_view key, int min, int max);
   int integer_or(std::string_view key, int min, int max, int default_value);
@@ -146,6 +152,9 @@ class SectionReader {
   const Entry* take_value(std::string_view key);
   const std::string& scalar(const Entry& entry, std::string_view expected) const;
   double read_quantity(const Entry& entry, const QuantityField& field) const;
+  /// The SI value of `text` for `field`, or 0 with `problem` set.
+  double quantity_in_field(const std::string& text, const QuantityField& field,
+                           std::string_view key, std::string& problem) const;
   int read_integer(const Entry& entry, int min, int max) const;
   bool read_boolean(const Entry& entry) const;
   [[noreturn]] void unknown_key(const Entry& entry, std::string_view message) const;

@@ -104,6 +104,25 @@ TEST(DynamicsSection, FrfFilesWithUnitsFormatsAndAxes) {
   EXPECT_EQ(job.dynamics_source, Job::DynamicsSource::fit);
 }
 
+// DESIGN.md's public form: one file per measured direction.
+TEST(DynamicsSection, FrfFilesByDirection) {
+  const Job job = parse_job(R"(dynamics:
+  frf:
+    x: hammer/xx.uff
+    y: {file: yy.csv, units: um/N}
+)",
+                            "/data/cell/job.yaml");
+  ASSERT_EQ(job.frf_files.size(), 2u);
+  EXPECT_EQ(job.frf_files[0].file, std::filesystem::path("/data/cell/hammer/xx.uff"));
+  EXPECT_EQ(*job.frf_files[0].response_axis, 0);
+  EXPECT_EQ(*job.frf_files[0].reference_axis, 0);
+  EXPECT_EQ(job.frf_files[1].format, FrfFileSpec::Format::csv);
+  EXPECT_EQ(*job.frf_files[1].response_axis, 1);
+  EXPECT_DOUBLE_EQ(job.frf_files[1].scale_to_si, 1e-6);
+  expect_error("dynamics:\n  frf:\n    x: a.csv\n", "dynamics.frf.x", 3, "needs its units");
+  expect_error("dynamics:\n  frf:\n    w: a.uff\n", "dynamics.frf.w", 3, "");
+}
+
 TEST(DynamicsSection, MalformedEntriesNameTheField) {
   expect_error("dynamics:\n  frf:\n    - {response: x}\n", "dynamics.frf[0].file", 3,
                "required field missing");
