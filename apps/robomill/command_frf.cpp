@@ -122,8 +122,9 @@ int run_frf(const FrfCommandOptions& options) {
     entry.frf = dynamics::synthesize(modes, response, reference, grid, kind);
     // Each FRF its own seed, so adding one leaves the others' data unchanged.
     if (options.noise > 0.0)
-      dynamics::add_relative_noise(entry.frf, options.noise,
-                                   options.seed + static_cast<std::uint32_t>(3 * response + reference));
+      dynamics::add_relative_noise(
+          entry.frf, options.noise,
+          options.seed + static_cast<std::uint32_t>(3 * response + reference));
     const std::string direction{"xyz"[response], "xyz"[reference]};
     entry.frf.label = fmt::format("H{} {} of {}", direction, dynamics::kind_name(kind),
                                   job.name.empty() ? job.source.filename().string() : job.name);

@@ -36,6 +36,7 @@ int run_validate(const JobCommandOptions& options) {
     add(job.process.has_value(), "process");
     add(!job.modes.empty() || !job.frf_files.empty(), "dynamics");
     add(job.stability.has_value(), "stability");
+    add(job.robot.has_value(), "robot");
     add(!job.experiments.empty(), "experiments");
     if (!sections.empty())
       std::cout << " (" << sections << ")";

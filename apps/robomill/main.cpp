@@ -60,6 +60,13 @@ int main(int argc, char** argv) {
       "stabilization.csv, modes.yaml, summary.json");
   add_job_options(*fit, fit_options, true);
 
+  robomill::app::JobCommandOptions robot_options;
+  CLI::App* robot = app.add_subcommand(
+      "robot",
+      "the robot's structure at a posture: pose, Jacobian, compliance, natural frequencies, "
+      "tool-tip FRF; with robot.map a workspace map → summary.json, frf.csv, modes.csv, map.csv");
+  add_job_options(*robot, robot_options, true);
+
   robomill::app::IdentifyOptions identify_options;
   CLI::App* identify = app.add_subcommand(
       "identify-cutting",
@@ -119,6 +126,8 @@ int main(int argc, char** argv) {
       return robomill::app::run_stability(stability_options);
     if (identify->parsed())
       return robomill::app::run_identify_cutting(identify_options);
+    if (robot->parsed())
+      return robomill::app::run_robot(robot_options);
     if (fit->parsed())
       return robomill::app::run_fit_modes(fit_options);
     if (frf->parsed())

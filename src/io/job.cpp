@@ -131,6 +131,10 @@ void require(const Job& job, std::initializer_list<Section> sections) {
           throw InputError("stability", 0, "section required by this command is missing");
         }
         break;
+      case Section::robot:
+        if (!job.robot)
+          throw InputError("robot", 0, "section required by this command is missing");
+        break;
     }
   }
 }

@@ -85,6 +85,8 @@ constexpr std::array kNamedDimensions = {
     NamedDimension{dimensions::force_per_volume, "force per volume", "N/m^3", "N/mm^3, N/m^3"},
     NamedDimension{dimensions::torque, "torque", "N*m", "N*m"},
     NamedDimension{dimensions::rotational_stiffness, "rotational stiffness", "N*m/rad", "N*m/rad"},
+    NamedDimension{dimensions::moment_of_inertia, "moment of inertia", "kg*m^2", "kg*m^2"},
+    NamedDimension{dimensions::rotational_damping, "rotational damping", "N*m*s/rad", "N*m*s/rad"},
     NamedDimension{dimensions::receptance, "receptance", "m/N", "m/N, mm/N, um/N"},
     NamedDimension{dimensions::mobility, "mobility", "m/s/N", "m/s/N, mm/s/N"},
     NamedDimension{dimensions::accelerance, "accelerance", "m/s^2/N", "m/s^2/N"},

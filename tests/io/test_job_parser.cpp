@@ -353,9 +353,10 @@ TEST(JobValidation, UnknownKeys) {
                "(did you mean 'teeth'?)");
   expect_error("name: a\nprocesss:\n  ap: 1\n", "processs", 2,
                "unknown key; expected one of: name, tool, cutting, process, forces, dynamics, "
-               "stability, experiments, output (did you mean 'process'?)");
-  expect_error("robot:\n  dh: []\n", "robot", 1,
+               "stability, experiments, robot, output (did you mean 'process'?)");
+  expect_error("simulation:\n  duration: 1 s\n", "simulation", 1,
                "section not supported by this version of robomill");
+  expect_error("robot:\n  dh: []\n", "robot.dh", 2, "one row {a, alpha, d, theta} per joint");
   expect_error("dynamics:\n  from_robot: true\n", "dynamics.from_robot", 2, "not supported");
   expect_error("cutting:\n  law: linear\n  Ktc: 800\n  kF: 3\n", "cutting.kF", 4,
                "unknown key for law 'linear'; expected one of: law, Ktc");

@@ -170,7 +170,8 @@ TEST(UnitDescription, ReadableNames) {
   EXPECT_EQ(describe(dims::angular_speed), "angular speed (rad/s)");
   EXPECT_EQ(describe(dims::frequency), "frequency (Hz)");
   EXPECT_EQ(describe(dims::rotational_stiffness), "rotational stiffness (N*m/rad)");
-  EXPECT_EQ(describe(Dimension{2, 1, 0, 0}), "kg*m^2");
+  EXPECT_EQ(describe(Dimension{2, 1, 0, 0}), "moment of inertia (kg*m^2)");
+  EXPECT_EQ(describe(Dimension{2, 0, 1, 0}), "m^2*s");
   EXPECT_EQ(describe(Dimension{1, 0, -2, 0}), "m/s^2");
   EXPECT_EQ(robomill::io::si_unit(Dimension{-1, 0, 0, 0}), "1/m");
   EXPECT_EQ(robomill::io::typical_units(dims::length), "mm, m, um");

@@ -2,6 +2,7 @@
 // A job: one robot cell and one question (DESIGN.md §3), validated and in SI.
 // The numerical core never sees the YAML; it sees these values.
 
+#include <array>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -12,6 +13,7 @@
 #include "robomill/dynamics/axial_shape.hpp"
 #include "robomill/dynamics/frf.hpp"
 #include "robomill/dynamics/modal_model.hpp"
+#include "robomill/robot/robot_description.hpp"
 #include "robomill/tool/tool.hpp"
 
 namespace robomill::io {
@@ -61,6 +63,26 @@ struct FitSettings {
   };
   std::vector<Band> bands;  ///< empty: automatic band selection
   int max_order = 0;        ///< 0: the fit's default
+};
+
+/// `robot:` — the robot's description and what `robomill robot` computes.
+struct RobotSettings {
+  robot::RobotDescription description;
+  std::filesystem::path urdf_file;  ///< where `urdf.file` pointed (for messages)
+  /// `posture:` joint angles (rad), one per joint; empty when not given.
+  std::vector<double> posture_rad;
+  /// `frf:` tool-tip receptance grid at the posture.
+  double frf_from_hz = 0.0, frf_to_hz = 0.0;  ///< 0: automatic
+  int frf_points = 500;
+  /// `map:` a grid of tool-tip positions in the cell frame.
+  struct Map {
+    Eigen::Vector3d from_m = Eigen::Vector3d::Zero(), to_m = Eigen::Vector3d::Zero();
+    std::array<int, 3> counts{1, 1, 1};
+    Eigen::Vector3d tool_axis = Eigen::Vector3d::UnitZ();  ///< tool z, tip → spindle
+    Eigen::Vector3d feed = Eigen::Vector3d::UnitX();       ///< feed direction (⊥ tool axis)
+    double redundancy_rad = 0.0;
+  };
+  std::optional<Map> map;
 };
 
 /// One cutting test with its observed outcome (`experiments:`).
@@ -115,6 +137,7 @@ struct Job {
   /// the measured FRFs themselves.
   enum class DynamicsSource { table, fit, frf } dynamics_source = DynamicsSource::table;
   std::vector<Experiment> experiments;
+  std::optional<RobotSettings> robot;  ///< `robot:`
   OutputSettings output;
 
   /// Resolves a path written in the job relative to the job file's folder.
@@ -150,7 +173,7 @@ Job parse_job(std::string_view yaml_text, const std::filesystem::path& source_na
 dynamics::ModalModel modal_model(const Job& job);
 
 /// Sections a command needs; throws InputError naming the first missing one.
-enum class Section { tool, cutting, process, modes, stability };
+enum class Section { tool, cutting, process, modes, stability, robot };
 void require(const Job& job, std::initializer_list<Section> sections);
 
 }  // namespace robomill::io

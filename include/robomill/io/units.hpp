@@ -32,6 +32,8 @@ inline constexpr Dimension stiffness{0, 1, -2, 0};              // N/m (same as 
 inline constexpr Dimension force_per_volume{-2, 1, -2, 0};      // N/m^3 (indentation, 000 Eq 18)
 inline constexpr Dimension torque{2, 1, -2, 0};                 // N*m
 inline constexpr Dimension rotational_stiffness{2, 1, -2, -1};  // N*m/rad
+inline constexpr Dimension moment_of_inertia{2, 1, 0, 0};       // kg*m^2
+inline constexpr Dimension rotational_damping{2, 1, -1, -1};    // N*m*s/rad
 inline constexpr Dimension receptance{0, -1, 2, 0};             // m/N (FRF)
 inline constexpr Dimension mobility{0, -1, 1, 0};               // m/s/N (FRF)
 inline constexpr Dimension accelerance{0, -1, 0, 0};            // m/s^2/N (FRF)

@@ -1,0 +1,299 @@
+// robomill robot JOB: what the robot's structure is at a posture — tool pose,
+// Jacobian, Cartesian compliance (000 Eq 3-4), principal stiffness, joint-space
+// natural frequencies and tool-tip modes (004 Eq 1-2), the tool-tip FRF — and,
+// with robot.map, the same figures over a grid of tool-tip positions.
+
+#include <fmt/format.h>
+#include <Eigen/Eigenvalues>
+
+#include <chrono>
+#include <cmath>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <numbers>
+
+#include "commands.hpp"
+#include "robomill/core/error.hpp"
+#include "robomill/core/parallel.hpp"
+#include "robomill/io/csv.hpp"
+#include "robomill/io/output_bundle.hpp"
+#include "robomill/io/summary.hpp"
+#include "robomill/robot/joint_dynamics.hpp"
+#include "robomill/robot/kinematics.hpp"
+#include "robomill/robot/stiffness.hpp"
+
+namespace robomill::app {
+namespace {
+
+constexpr double kDegPerRad = 180.0 / std::numbers::pi;
+
+nlohmann::json matrix_json(const Eigen::MatrixXd& m) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (Eigen::Index i = 0; i < m.rows(); ++i) {
+    nlohmann::json row = nlohmann::json::array();
+    for (Eigen::Index j = 0; j < m.cols(); ++j)
+      row.push_back(m(i, j));
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+nlohmann::json vector_json(const Eigen::VectorXd& v, double scale = 1.0) {
+  nlohmann::json values = nlohmann::json::array();
+  for (Eigen::Index i = 0; i < v.size(); ++i)
+    values.push_back(v[i] * scale);
+  return values;
+}
+
+/// One grid point of the workspace map.
+struct MapPoint {
+  Eigen::Vector3d position_m = Eigen::Vector3d::Zero();
+  bool reachable = false;
+  Eigen::VectorXd q;
+  double lowest_frequency_hz = 0.0;
+  double compliance_feed_m_per_n = 0.0, compliance_normal_m_per_n = 0.0;
+  double compliance_axial_m_per_n = 0.0;
+  double condition_number = 0.0;
+};
+
+/// Compliance along a unit direction: dᵀ C d.
+double directional_compliance(const Eigen::Matrix3d& c, const Eigen::Vector3d& d) {
+  return d.dot(c * d);
+}
+
+std::vector<MapPoint> workspace_map(const robot::RobotModel& model,
+                                    const io::RobotSettings::Map& grid, const Eigen::VectorXd& seed,
+                                    bool has_mass, int threads) {
+  const int nx = grid.counts[0], ny = grid.counts[1], nz = grid.counts[2];
+  std::vector<MapPoint> points(static_cast<std::size_t>(nx) * ny * nz);
+  auto coordinate = [](double from, double to, int count, int i) {
+    return count == 1 ? from : from + (to - from) * i / (count - 1);
+  };
+  robot::IkOptions ik;
+  ik.position_only = model.dof() < 6;
+  ik.position_tolerance_m = 1e-9;
+  ik.orientation_tolerance_rad = 1e-9;
+  const Eigen::Vector3d normal = grid.tool_axis.cross(grid.feed);
+  // One row along x per work item; along a row each point starts from the
+  // previous solution (continuation), so neighbours stay on one IK branch and
+  // the result does not depend on the thread count.
+  core::parallel_for(static_cast<std::size_t>(ny) * nz, threads, [&](std::size_t row) {
+    const int iy = static_cast<int>(row) % ny, iz = static_cast<int>(row) / ny;
+    Eigen::VectorXd q = seed;
+    for (int ix = 0; ix < nx; ++ix) {
+      MapPoint& p = points[(static_cast<std::size_t>(iz) * ny + iy) * nx + ix];
+      p.position_m = {coordinate(grid.from_m.x(), grid.to_m.x(), nx, ix),
+                      coordinate(grid.from_m.y(), grid.to_m.y(), ny, iy),
+                      coordinate(grid.from_m.z(), grid.to_m.z(), nz, iz)};
+      const robot::IkResult solution = robot::inverse_kinematics_about_axis(
+          model, p.position_m, grid.tool_axis, grid.redundancy_rad, q, ik);
+      p.q = solution.q;
+      p.reachable = solution.converged;
+      if (!p.reachable)
+        continue;
+      q = solution.q;
+      const Eigen::Matrix3d c = robot::translational_compliance(model, q);
+      p.compliance_feed_m_per_n = directional_compliance(c, grid.feed);
+      p.compliance_normal_m_per_n = directional_compliance(c, normal);
+      p.compliance_axial_m_per_n = directional_compliance(c, grid.tool_axis);
+      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(c);
+      const double smallest = eigen.eigenvalues().minCoeff();
+      p.condition_number = smallest > 0.0 ? eigen.eigenvalues().maxCoeff() / smallest : 0.0;
+      if (has_mass)
+        p.lowest_frequency_hz = robot::robot_modes(model, q).natural_frequencies_hz.minCoeff();
+    }
+  });
+  return points;
+}
+
+}  // namespace
+
+int run_robot(const JobCommandOptions& options) {
+  const io::Job job = load(options);
+  io::require(job, {io::Section::robot});
+  const io::RobotSettings& settings = *job.robot;
+  const auto start = std::chrono::steady_clock::now();
+  const robot::RobotModel model(settings.description);
+  if (settings.posture_rad.empty()) {
+    throw InputError(
+        "robot.posture", 0,
+        fmt::format("required: the {} joint angles to analyse (deg by default)", model.dof()));
+  }
+  const Eigen::VectorXd q =
+      Eigen::Map<const Eigen::VectorXd>(settings.posture_rad.data(), model.dof());
+  if (!model.within_limits(q)) {
+    for (int i = 0; i < model.dof(); ++i) {
+      const auto& joint = model.joints()[static_cast<std::size_t>(i)];
+      if (q[i] < joint.lower_rad || q[i] > joint.upper_rad) {
+        throw InputError(
+            fmt::format("robot.posture[{}]", i), 0,
+            fmt::format("{:g} deg is outside joint {}'s range [{:g}, {:g}] deg", q[i] * kDegPerRad,
+                        i + 1, joint.lower_rad * kDegPerRad, joint.upper_rad * kDegPerRad));
+      }
+    }
+  }
+
+  const Eigen::Isometry3d pose = robot::tool_pose(model, q);
+  const Eigen::Matrix<double, 6, Eigen::Dynamic> jacobian = robot::tool_jacobian(model, q);
+  const robot::Matrix6d compliance = robot::cartesian_compliance(model, q);
+  const Eigen::Matrix3d translational = robot::translational_compliance(model, q);
+  // A DH robot without link masses has statics only (000 §6.1 gives the
+  // KR600's stiffness, not its masses): no modes, FRF or frequency map then.
+  const bool has_mass = !(settings.description.dh && settings.description.dh->links.empty());
+  std::optional<robot::RobotModes> modes;
+  std::vector<robot::DirectionalModalParameters> directional;
+  if (has_mass) {
+    modes = robot::robot_modes(model, q);
+    // The tool frame of the pose (x, y, z of the tool): the modal table is
+    // given along the tool's own axes, which is how a hammer test at the tip
+    // and the stability engine see it.
+    directional = robot::directional_modal_parameters(model, q, pose.linear().transpose());
+  }
+
+  nlohmann::json principal;
+  try {
+    const robot::PrincipalStiffness p = robot::principal_stiffness(model, q);
+    principal = {{"stiffness_N_per_m", vector_json(p.stiffness_n_per_m)},
+                 {"directions", matrix_json(p.directions)},
+                 {"condition_number", p.condition_number}};
+  } catch (const std::invalid_argument& e) {
+    principal = {{"note", e.what()}};
+  }
+
+  // Tool-tip FRF (cell frame) over the job's range or 0.5-2 × the modes.
+  io::CsvTable frf({"freq_hz", "hxx_re", "hxx_im", "hyy_re", "hyy_im", "hzz_re", "hzz_im", "hxy_re",
+                    "hxy_im", "hxz_re", "hxz_im", "hyz_re", "hyz_im"});
+  io::CsvTable modes_table({"mode", "fn_hz", "zeta", "tip_shape_x", "tip_shape_y", "tip_shape_z"});
+  double from_hz = 0.0, to_hz = 0.0;
+  if (modes) {
+    from_hz = settings.frf_from_hz > 0.0 ? settings.frf_from_hz
+                                         : 0.5 * modes->natural_frequencies_hz.minCoeff();
+    to_hz = settings.frf_to_hz > 0.0 ? settings.frf_to_hz
+                                     : 2.0 * modes->natural_frequencies_hz.maxCoeff();
+    if (!(to_hz > from_hz))
+      throw InputError("robot.frf.to", 0, fmt::format("must exceed from ({:g} Hz)", from_hz));
+    for (int i = 0; i < settings.frf_points; ++i) {
+      const double f = from_hz + (to_hz - from_hz) * i / (settings.frf_points - 1);
+      const Eigen::Matrix3cd h = robot::tool_tip_receptance(model, q, 2.0 * std::numbers::pi * f);
+      frf.add_row({f, h(0, 0).real(), h(0, 0).imag(), h(1, 1).real(), h(1, 1).imag(),
+                   h(2, 2).real(), h(2, 2).imag(), h(0, 1).real(), h(0, 1).imag(), h(0, 2).real(),
+                   h(0, 2).imag(), h(1, 2).real(), h(1, 2).imag()});
+    }
+    for (Eigen::Index i = 0; i < modes->natural_frequencies_hz.size(); ++i) {
+      modes_table.add_row({static_cast<double>(i + 1), modes->natural_frequencies_hz[i],
+                           modes->damping_ratios[i], modes->tip_shapes(0, i),
+                           modes->tip_shapes(1, i), modes->tip_shapes(2, i)});
+    }
+  }
+  nlohmann::json modal_table = nlohmann::json::array();
+  for (const auto& m : directional) {
+    modal_table.push_back({{"mode", m.mode + 1},
+                           {"direction", std::string(1, "xyz"[m.axis])},
+                           {"fn_hz", m.natural_frequency_hz},
+                           {"zeta", m.damping_ratio},
+                           {"k_N_per_m", m.stiffness_n_per_m},
+                           {"m_kg", m.mass_kg}});
+  }
+
+  std::optional<std::vector<MapPoint>> map;
+  if (settings.map)
+    map = workspace_map(model, *settings.map, q, has_mass, options.threads);
+  const double elapsed_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  const Eigen::Vector3d rpy = pose.linear().eulerAngles(2, 1, 0).reverse();
+  nlohmann::json summary = {{"command", "robot"},
+                            {"job", job.source.string()},
+                            {"robot", model.name()},
+                            {"dof", model.dof()},
+                            {"elapsed_s", elapsed_s},
+                            {"posture_deg", vector_json(q, kDegPerRad)},
+                            {"tool_position_mm", vector_json(pose.translation(), 1e3)},
+                            {"tool_rotation", matrix_json(pose.linear())},
+                            {"tool_rpy_deg", vector_json(rpy, kDegPerRad)},
+                            {"jacobian", matrix_json(jacobian)},
+                            {"compliance", matrix_json(compliance)},
+                            {"translational_compliance_m_per_N", matrix_json(translational)},
+                            {"principal_stiffness", principal},
+                            {"modal_table_tool_frame", modal_table}};
+  if (modes) {
+    summary["natural_frequencies_hz"] = vector_json(modes->natural_frequencies_hz);
+    summary["damping_ratios"] = vector_json(modes->damping_ratios);
+    summary["frf"] = {{"from_hz", from_hz}, {"to_hz", to_hz}, {"points", settings.frf_points}};
+  } else {
+    summary["natural_frequencies_hz"] = nlohmann::json::array();
+    summary["dynamics_note"] = "no link masses (robot.links): statics only";
+  }
+
+  const std::filesystem::path out = output_dir(options, job, "robot");
+  io::OutputBundle bundle(out);
+  if (job.output.csv && modes) {
+    bundle.add("frf.csv", frf.to_string());
+    bundle.add("modes.csv", modes_table.to_string());
+  }
+  if (map) {
+    std::vector<std::string> columns = {"x_mm",
+                                        "y_mm",
+                                        "z_mm",
+                                        "reachable",
+                                        "lowest_fn_hz",
+                                        "compliance_feed_um_per_N",
+                                        "compliance_normal_um_per_N",
+                                        "compliance_axial_um_per_N",
+                                        "condition_number"};
+    for (int j = 0; j < model.dof(); ++j)
+      columns.push_back(fmt::format("q{}_deg", j + 1));
+    io::CsvTable table(columns);
+    int reachable = 0;
+    double lowest = INFINITY, highest = 0.0;
+    for (const MapPoint& p : *map) {
+      std::vector<double> row = {p.position_m.x() * 1e3,
+                                 p.position_m.y() * 1e3,
+                                 p.position_m.z() * 1e3,
+                                 p.reachable ? 1.0 : 0.0,
+                                 p.lowest_frequency_hz,
+                                 p.compliance_feed_m_per_n * 1e6,
+                                 p.compliance_normal_m_per_n * 1e6,
+                                 p.compliance_axial_m_per_n * 1e6,
+                                 p.condition_number};
+      for (int j = 0; j < model.dof(); ++j)
+        row.push_back(p.reachable ? p.q[j] * kDegPerRad : 0.0);
+      table.add_row(row);
+      if (p.reachable) {
+        ++reachable;
+        lowest = std::min(lowest, p.lowest_frequency_hz);
+        highest = std::max(highest, p.lowest_frequency_hz);
+      }
+    }
+    summary["map"] = {{"points", map->size()}, {"reachable", reachable}};
+    if (reachable > 0) {
+      summary["map"]["lowest_fn_hz_min"] = lowest;
+      summary["map"]["lowest_fn_hz_max"] = highest;
+    }
+    bundle.add("map.csv", table.to_string());
+  }
+  if (job.output.json)
+    bundle.add("summary.json", io::summary_text(summary));
+  bundle.commit();
+
+  if (!options.quiet) {
+    std::cout << fmt::format("robot {} ({} joints): tool at [{:.1f}, {:.1f}, {:.1f}] mm",
+                             model.name(), model.dof(), pose.translation().x() * 1e3,
+                             pose.translation().y() * 1e3, pose.translation().z() * 1e3);
+    if (modes) {
+      std::cout << "; natural frequencies";
+      for (Eigen::Index i = 0; i < modes->natural_frequencies_hz.size(); ++i)
+        std::cout << fmt::format(" {:.2f}", modes->natural_frequencies_hz[i]);
+      std::cout << " Hz";
+    }
+    std::cout << '\n';
+    if (map) {
+      std::cout << fmt::format("  map: {} of {} points reachable\n",
+                               summary["map"]["reachable"].get<int>(), map->size());
+    }
+    std::cout << "  written to " << out.string() << '\n';
+  }
+  return 0;
+}
+
+}  // namespace robomill::app

@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# `robomill robot`: files, columns, summary keys, the workspace map, and bad
+# robot input exiting 2 with the field named and nothing written.
+source "$(dirname "$0")/lib.bash"
+JOB="$SOURCE/examples/004_kr300_pose_optimization.yaml"
+
+"$ROBOMILL" robot "$JOB" --set robot.map.counts=[4,3,1] --out "$WORK/r" --quiet || fail "robot exit code"
+for f in summary.json frf.csv modes.csv map.csv; do
+  [ -s "$WORK/r/$f" ] || fail "robot did not write $f"
+done
+for key in posture_deg tool_position_mm jacobian compliance natural_frequencies_hz \
+  modal_table_tool_frame principal_stiffness; do
+  grep -q "\"$key\"" "$WORK/r/summary.json" || fail "summary.json lacks $key"
+done
+[ "$(head -1 "$WORK/r/frf.csv" | cut -d, -f1-3)" = "freq_hz,hxx_re,hxx_im" ] || fail "frf.csv header"
+[ $(($(wc -l < "$WORK/r/map.csv") - 1)) -eq 12 ] || fail "map.csv should have 4 x 3 rows"
+[ $(($(wc -l < "$WORK/r/modes.csv") - 1)) -eq 3 ] || fail "three joint modes expected"
+grep -qi 'nan\|inf' "$WORK/r/summary.json" "$WORK/r/frf.csv" "$WORK/r/map.csv" \
+  && fail "non-finite number written"
+
+# A robot without link masses (000's KR600): statics only, said in the summary.
+"$ROBOMILL" robot "$SOURCE/examples/000_kr600_multipoint.yaml" --out "$WORK/r0" --quiet \
+  || fail "KR600 robot exit code"
+grep -q '"dynamics_note"' "$WORK/r0/summary.json" || fail "KR600: statics-only note missing"
+grep -q '"principal_stiffness"' "$WORK/r0/summary.json" || fail "KR600: principal stiffness missing"
+[ ! -e "$WORK/r0/frf.csv" ] || fail "KR600 without masses should write no frf.csv"
+
+expect_exit2() {  # expected-fragment, then the command's arguments
+  local fragment=$1; shift
+  msg=$("$ROBOMILL" "$@" --out "$WORK/bad" 2>&1); code=$?
+  [ "$code" -eq 2 ] || fail "$*: exit $code (expected 2): $msg"
+  case "$msg" in *"$fragment"*) ;; *) fail "$*: message lacks '$fragment': $msg" ;; esac
+  [ ! -e "$WORK/bad" ] || fail "$*: wrote output"
+}
+expect_exit2 "robot.posture[2]" robot "$JOB" --set 'robot.posture=[0, 45, -80]'
+expect_exit2 "robot.joint_stiffness[1]" robot "$JOB" --set 'robot.joint_stiffness=[2.4e5, -5, 1e5]'
+expect_exit2 "robot.joints[2].upper" robot "$JOB" --set 'robot.joints[2].upper=-70'
+expect_exit2 "robot.posture" robot "$JOB" --set 'robot.posture=[0, 45]'
+expect_exit2 "robot.links[0].mass" robot "$JOB" --set 'robot.links[0].mass=-1'
+expect_exit2 "either as a DH table" robot "$JOB" --set 'robot.urdf={file: a.urdf, base: a, tip: b}'
+expect_exit2 "robot" robot "$SOURCE/examples/demo.yaml"
+finish

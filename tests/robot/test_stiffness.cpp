@@ -1,0 +1,174 @@
+// Cartesian compliance C = J Kq⁻¹ Jᵀ (000 Eq 3): against the FK displacement
+// of joints deflected by Δq = Kq⁻¹ Jᵀ w, its inverse (000 Eq 4), the
+// translational block, principal stiffness and the singular cases.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+#include "robomill/robot/kinematics.hpp"
+#include "robomill/robot/robot_model.hpp"
+#include "robomill/robot/stiffness.hpp"
+
+namespace {
+
+using namespace robomill::robot;
+constexpr double kPi = std::numbers::pi;
+constexpr double kDeg = kPi / 180.0;
+
+// KR 600 R2830-class standard DH (nominal public dimensions; see
+// test_kinematics.cpp), Kq of 000 §6.1.
+RobotDescription kr600() {
+  RobotDescription d;
+  d.name = "KR600-class";
+  DhTable dh;
+  dh.rows = {{0.5, -kPi / 2, 1.045, 0.0}, {1.3, 0.0, 0.0, -kPi / 2}, {0.055, -kPi / 2, 0.0, 0.0},
+             {0.0, kPi / 2, 1.025, 0.0},  {0.0, -kPi / 2, 0.0, 0.0}, {0.0, 0.0, 0.29, 0.0}};
+  d.dh = dh;
+  const double k[] = {6.082e6, 6.816e6, 3.842e6, 2.926e6, 1.635e6, 2.479e6};
+  for (double ki : k)
+    d.joints.push_back({-2 * kPi, 2 * kPi, ki, -1.0});
+  d.flange_to_tool =
+      Eigen::Translation3d(0.08, 0.0, 0.35) * Eigen::AngleAxisd(kPi / 2, Eigen::Vector3d::UnitY());
+  d.base = Eigen::Translation3d(0.2, -0.4, 0.3) * Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ());
+  return d;
+}
+
+Eigen::VectorXd posture_000() {
+  Eigen::VectorXd q(6);
+  q << -71.73, -68.62, 110.51, 35.54, -47.68, -204.68;  // 000 §6.3
+  return q * kDeg;
+}
+
+RobotDescription robot_004() {
+  RobotDescription d;
+  d.name = "004";
+  DhTable dh;
+  dh.convention = DhConvention::modified;
+  dh.rows = {{0.0, 0.0, 0.2, 0.0}, {0.0, kPi / 2, 0.0, 0.0}, {0.8, 0.0, 0.0, 0.0}};
+  d.dh = dh;
+  d.joints = {
+      {-kPi, kPi, 2.4e5, -1.0}, {-kPi / 2, kPi / 2, 1e5, -1.0}, {-kPi / 3, kPi / 3, 1e5, -1.0}};
+  d.flange_to_tool.translation() = Eigen::Vector3d(0.8, 0.0, 0.0);
+  return d;
+}
+
+Eigen::Vector3d rotation_vector(const Eigen::Matrix3d& r) {
+  const Eigen::AngleAxisd aa(r);
+  return aa.angle() * aa.axis();
+}
+
+// Deflect the joints by ±Δq, Δq = Kq⁻¹ Jᵀ w (the joint springs' response to
+// the wrench), and compare the central FK displacement with C w.
+void expect_compliance_matches_fk(const RobotModel& m, const Eigen::VectorXd& q,
+                                  const Vector6d& wrench) {
+  const Eigen::VectorXd dq =
+      m.joint_stiffness().cwiseInverse().asDiagonal() * (tool_jacobian(m, q).transpose() * wrench);
+  const Eigen::Isometry3d tp = tool_pose(m, q + dq), tm = tool_pose(m, q - dq);
+  Vector6d fk;
+  fk.head<3>() = (tp.translation() - tm.translation()) / 2;
+  fk.tail<3>() = rotation_vector(tp.linear() * tm.linear().transpose()) / 2;
+  const Vector6d cw = deflection(m, q, wrench);
+  const double lin = (fk.head<3>() - cw.head<3>()).norm() / cw.head<3>().norm();
+  const double ang = (fk.tail<3>() - cw.tail<3>()).norm() / cw.tail<3>().norm();
+  EXPECT_LT(lin, 1e-6);
+  EXPECT_LT(ang, 1e-6);
+  std::printf(
+      "[validation] %s compliance vs FK of Δq = Kq⁻¹Jᵀw (|Δq| = %.1e rad): linear %.2e, angular "
+      "%.2e relative; tip deflection %.3e m\n",
+      m.name().c_str(), dq.norm(), lin, ang, cw.head<3>().norm());
+}
+
+TEST(Stiffness, ComplianceMatchesDeflectedFkKr600) {
+  const RobotModel m(kr600());
+  Vector6d w;
+  w << 30.0, -12.0, 25.0, 1.5, -2.0, 0.8;  // small: |Δq| ≈ 1e-5 rad
+  expect_compliance_matches_fk(m, posture_000(), w);
+  Vector6d f_only = Vector6d::Zero();
+  f_only.head<3>() << -20.0, 35.0, 10.0;
+  expect_compliance_matches_fk(m, posture_000(), f_only);
+}
+
+TEST(Stiffness, ComplianceMatchesDeflectedFk004) {
+  const RobotModel m(robot_004());
+  Vector6d w;
+  w << 2.0, -1.5, 3.0, 0.2, -0.1, 0.3;
+  expect_compliance_matches_fk(m, Eigen::Vector3d(0.4, -0.6, 0.8), w);
+}
+
+TEST(Stiffness, ComplianceIsJKinvJt) {
+  const RobotModel m(kr600());
+  const Eigen::VectorXd q = posture_000();
+  const Eigen::MatrixXd j = tool_jacobian(m, q);
+  Eigen::MatrixXd expected = Eigen::MatrixXd::Zero(6, 6);
+  for (int i = 0; i < 6; ++i)
+    expected += j.col(i) * j.col(i).transpose() / m.joint_stiffness()[i];
+  const Matrix6d c = cartesian_compliance(m, q);
+  EXPECT_LT((c - expected).norm(), 1e-14 * expected.norm());
+  EXPECT_EQ(c, c.transpose());
+  const Eigen::Matrix3d block = c.topLeftCorner<3, 3>();
+  EXPECT_EQ(translational_compliance(m, q), block);
+}
+
+TEST(Stiffness, StiffnessInvertsComplianceKr600) {
+  const RobotModel m(kr600());
+  const Eigen::VectorXd q = posture_000();
+  const Matrix6d c = cartesian_compliance(m, q);
+  const Matrix6d k = cartesian_stiffness(m, q);
+  EXPECT_LT((k * c - Matrix6d::Identity()).norm(), 1e-9);
+  const Eigen::Matrix3d kt = translational_stiffness(m, q);
+  EXPECT_LT((kt * c.topLeftCorner<3, 3>() - Eigen::Matrix3d::Identity()).norm(), 1e-9);
+
+  const PrincipalStiffness p = principal_stiffness(m, q);
+  EXPECT_LE(p.stiffness_n_per_m[0], p.stiffness_n_per_m[1]);
+  EXPECT_LE(p.stiffness_n_per_m[1], p.stiffness_n_per_m[2]);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(p.directions.col(i).norm(), 1.0, 1e-12);
+    EXPECT_LT((kt * p.directions.col(i) - p.stiffness_n_per_m[i] * p.directions.col(i)).norm(),
+              1e-9 * p.stiffness_n_per_m[2]);
+  }
+  EXPECT_NEAR(p.condition_number, p.stiffness_n_per_m[2] / p.stiffness_n_per_m[0], 1e-12);
+  std::printf(
+      "[validation] KR600-class at 000 §6.3 posture: principal stiffness %.4g, %.4g, %.4g N/m "
+      "(condition %.3g)\n",
+      p.stiffness_n_per_m[0], p.stiffness_n_per_m[1], p.stiffness_n_per_m[2], p.condition_number);
+}
+
+TEST(Stiffness, FewerThanSixJointsOfferTranslationalStiffness) {
+  const RobotModel m(robot_004());
+  const Eigen::Vector3d q(0.4, -0.6, 0.8);
+  try {
+    cartesian_stiffness(m, q);
+    FAIL() << "expected std::invalid_argument";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("has 3 joints (< 6)"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("translational stiffness"), std::string::npos);
+  }
+  const Eigen::Matrix3d kt = translational_stiffness(m, q);
+  EXPECT_LT((kt * translational_compliance(m, q) - Eigen::Matrix3d::Identity()).norm(), 1e-9);
+}
+
+TEST(Stiffness, SingularPostureThrows) {
+  // 004 stretched out (q3 = 0): the tip cannot move along the arm.
+  const RobotModel m(robot_004());
+  EXPECT_THROW(translational_stiffness(m, Eigen::Vector3d(0.2, 0.3, 0.0)), std::invalid_argument);
+  EXPECT_THROW(principal_stiffness(m, Eigen::Vector3d(0.2, 0.3, 0.0)), std::invalid_argument);
+  // KR600 with the wrist straight (q5 = 0): axes 4 and 6 align.
+  const RobotModel kr(kr600());
+  Eigen::VectorXd q = posture_000();
+  q[4] = 0.0;
+  try {
+    cartesian_stiffness(kr, q);
+    FAIL() << "expected std::invalid_argument";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("singular"), std::string::npos) << e.what();
+  }
+  Vector6d w = Vector6d::Zero();
+  w[0] = NAN;
+  EXPECT_THROW(deflection(kr, posture_000(), w), std::invalid_argument);
+}
+
+}  // namespace
