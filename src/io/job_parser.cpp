@@ -1319,6 +1319,15 @@ RobotSettings read_robot_section(SectionReader& r, const std::filesystem::path& 
     if (urdf_source.tip_link.empty())
       urdf->fail("tip", "required field missing (the flange link)");
     d.use_urdf_limits = urdf->boolean_or("limits_from_file", true);
+    // Only regular files of sane size: a path such as /dev/zero must not hang
+    // the parser (URDF files are kilobytes to a few megabytes).
+    std::error_code error;
+    const bool regular = std::filesystem::is_regular_file(settings.urdf_file, error);
+    const auto bytes = regular ? std::filesystem::file_size(settings.urdf_file, error) : 0;
+    if (!regular || error)
+      urdf->fail("file", "cannot read '" + settings.urdf_file.string() + "' (not a regular file)");
+    if (bytes > 64u * 1024u * 1024u)
+      urdf->fail("file", "'" + settings.urdf_file.string() + "' is larger than 64 MiB");
     std::ifstream in(settings.urdf_file, std::ios::binary);
     if (!in)
       urdf->fail("file", "cannot read '" + settings.urdf_file.string() + "'");
