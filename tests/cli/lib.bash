@@ -21,6 +21,16 @@ json_number() {
     inside && /}/ { inside = 0 }' "$1"
 }
 
+# expect_exit2 FRAGMENT ARGS...: `robomill ARGS --out $WORK/bad` must exit 2
+# with FRAGMENT in its message and write nothing.
+expect_exit2() {
+  local fragment=$1; shift
+  msg=$("$ROBOMILL" "$@" --out "$WORK/bad" 2>&1); code=$?
+  [ "$code" -eq 2 ] || fail "$*: exit $code (expected 2): $msg"
+  case "$msg" in *"$fragment"*) ;; *) fail "$*: message lacks '$fragment': $msg" ;; esac
+  [ ! -e "$WORK/bad" ] || fail "$*: wrote output"
+}
+
 finish() {
   if [ "$failures" -ne 0 ]; then
     echo "$failures check(s) failed" >&2

@@ -44,13 +44,6 @@ for use in fit frf; do
 done
 
 # Bad FRF input: exit 2, the field named, nothing written.
-expect_exit2() {  # expected-fragment, then the command's arguments
-  local fragment=$1; shift
-  msg=$("$ROBOMILL" "$@" --out "$WORK/bad" 2>&1); code=$?
-  [ "$code" -eq 2 ] || fail "$*: exit $code (expected 2): $msg"
-  case "$msg" in *"$fragment"*) ;; *) fail "$*: message lacks '$fragment': $msg" ;; esac
-  [ ! -e "$WORK/bad" ] || fail "$*: wrote output"
-}
 expect_exit2 "dynamics.frf[0].file" fit-modes "$JOB" --set 'dynamics.frf=[{file: missing.uff}]'
 printf 'freq_hz,re,im\n10,1e-6,0\n9,1e-6,0\n' > "$WORK/decreasing.csv"
 expect_exit2 "line 3" fit-modes "$JOB" \

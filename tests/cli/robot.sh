@@ -25,13 +25,6 @@ grep -q '"dynamics_note"' "$WORK/r0/summary.json" || fail "KR600: statics-only n
 grep -q '"principal_stiffness"' "$WORK/r0/summary.json" || fail "KR600: principal stiffness missing"
 [ ! -e "$WORK/r0/frf.csv" ] || fail "KR600 without masses should write no frf.csv"
 
-expect_exit2() {  # expected-fragment, then the command's arguments
-  local fragment=$1; shift
-  msg=$("$ROBOMILL" "$@" --out "$WORK/bad" 2>&1); code=$?
-  [ "$code" -eq 2 ] || fail "$*: exit $code (expected 2): $msg"
-  case "$msg" in *"$fragment"*) ;; *) fail "$*: message lacks '$fragment': $msg" ;; esac
-  [ ! -e "$WORK/bad" ] || fail "$*: wrote output"
-}
 expect_exit2 "robot.posture[2]" robot "$JOB" --set 'robot.posture=[0, 45, -80]'
 expect_exit2 "robot.joint_stiffness[1]" robot "$JOB" --set 'robot.joint_stiffness=[2.4e5, -5, 1e5]'
 expect_exit2 "robot.joints[2].upper" robot "$JOB" --set 'robot.joints[2].upper=-70'

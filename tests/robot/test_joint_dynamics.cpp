@@ -13,6 +13,7 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "example_robots.hpp"
 #include "robomill/robot/joint_dynamics.hpp"
 #include "robomill/robot/kinematics.hpp"
 #include "robomill/robot/robot_model.hpp"
@@ -21,33 +22,7 @@
 namespace {
 
 using namespace robomill::robot;
-constexpr double kPi = std::numbers::pi;
-
-LinkInertia link(double m, Eigen::Vector3d c, Eigen::Vector3d principal) {
-  LinkInertia l;
-  l.mass_kg = m;
-  l.center_of_mass_m = c;
-  l.inertia_kg_m2 = principal.asDiagonal();
-  return l;
-}
-
-// 004 §4.1 in modified DH (derivation in test_robot_model.cpp): Table 1
-// masses, c.o.m. and principal inertias; Kq = [2.4e5, 1e5, 1e5]; ζ = 0.06.
-RobotDescription robot_004() {
-  RobotDescription d;
-  d.name = "004";
-  DhTable dh;
-  dh.convention = DhConvention::modified;
-  dh.rows = {{0.0, 0.0, 0.2, 0.0}, {0.0, kPi / 2, 0.0, 0.0}, {0.8, 0.0, 0.0, 0.0}};
-  dh.links = {link(80, {0, 0, -0.1}, {0.9, 1.0, 1.0}), link(40, {0.4, 0, 0}, {0.6, 6.5, 6.5}),
-              link(55, {0.4, 0, 0}, {0.8, 9.5, 9.5})};
-  d.dh = dh;
-  d.joints = {
-      {-kPi, kPi, 2.4e5, -1.0}, {-kPi / 2, kPi / 2, 1e5, -1.0}, {-kPi / 3, kPi / 3, 1e5, -1.0}};
-  d.flange_to_tool.translation() = Eigen::Vector3d(0.8, 0.0, 0.0);
-  d.modal_damping_ratio = 0.06;
-  return d;
-}
+using namespace robomill::test;
 
 // Two-link planar arm (Spong, Robot Modeling and Control, §7.4.1):
 // M11 = m1 lc1² + m2(l1² + lc2² + 2 l1 lc2 cos q2) + I1 + I2,

@@ -8,66 +8,14 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "example_robots.hpp"
 #include "robomill/robot/kinematics.hpp"
 #include "robomill/robot/robot_model.hpp"
 
 namespace {
 
 using namespace robomill::robot;
-constexpr double kPi = std::numbers::pi;
-constexpr double kDeg = kPi / 180.0;
-
-// KR 600 R2830-class geometry (standard DH), nominal public dimensions of
-// the KUKA KR 600 R2830 datasheet (paper 000 gives none): A1 height 1.045 m,
-// A1–A2 offset 0.5 m, upper arm 1.3 m, A3 offset 0.055 m, forearm 1.025 m,
-// A5 to flange 0.29 m; check: 0.5 + 1.3 + √(1.025² + 0.055²) = 2.8265 m,
-// the datasheet reach (2826 mm, to the wrist point). Joint directions and
-// zeros are this table's, not KUKA's controller conventions, so 000 §6.3's
-// posture is used as a generic non-singular posture. Kq: 000 §6.1.
-RobotDescription kr600() {
-  RobotDescription d;
-  d.name = "KR600-class";
-  DhTable dh;
-  dh.convention = DhConvention::standard;
-  dh.rows = {{0.5, -kPi / 2, 1.045, 0.0}, {1.3, 0.0, 0.0, -kPi / 2}, {0.055, -kPi / 2, 0.0, 0.0},
-             {0.0, kPi / 2, 1.025, 0.0},  {0.0, -kPi / 2, 0.0, 0.0}, {0.0, 0.0, 0.29, 0.0}};
-  d.dh = dh;
-  const double k[] = {6.082e6, 6.816e6, 3.842e6, 2.926e6, 1.635e6, 2.479e6};
-  const double lim[] = {185, 180, 180, 350, 125, 350};  // deg, generous
-  for (int i = 0; i < 6; ++i)
-    d.joints.push_back({-lim[i] * kDeg, lim[i] * kDeg, k[i], -1.0});
-  // A spindle: tip 0.35 m out along the flange z and 0.08 m off-axis, tool z
-  // tilted 90° (a nontrivial tool frame).
-  d.flange_to_tool =
-      Eigen::Translation3d(0.08, 0.0, 0.35) * Eigen::AngleAxisd(kPi / 2, Eigen::Vector3d::UnitY());
-  d.base = Eigen::Translation3d(0.2, -0.4, 0.3) * Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ());
-  return d;
-}
-
-Eigen::VectorXd posture_000() {
-  Eigen::VectorXd q(6);
-  q << -71.73, -68.62, 110.51, 35.54, -47.68, -204.68;  // 000 §6.3
-  return q * kDeg;
-}
-
-// 004 §4.1 (modified DH; see test_robot_model.cpp for the derivation).
-RobotDescription robot_004() {
-  RobotDescription d;
-  d.name = "004";
-  DhTable dh;
-  dh.convention = DhConvention::modified;
-  dh.rows = {{0.0, 0.0, 0.2, 0.0}, {0.0, kPi / 2, 0.0, 0.0}, {0.8, 0.0, 0.0, 0.0}};
-  d.dh = dh;
-  d.joints = {
-      {-kPi, kPi, 2.4e5, -1.0}, {-kPi / 2, kPi / 2, 1e5, -1.0}, {-kPi / 3, kPi / 3, 1e5, -1.0}};
-  d.flange_to_tool.translation() = Eigen::Vector3d(0.8, 0.0, 0.0);
-  return d;
-}
-
-Eigen::Vector3d rotation_vector(const Eigen::Matrix3d& r) {
-  const Eigen::AngleAxisd aa(r);
-  return aa.angle() * aa.axis();
-}
+using namespace robomill::test;
 
 // Central differences of FK: linear part from the tip position, angular part
 // from the rotation between the two perturbed orientations.

@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "example_robots.hpp"
 #include "robomill/robot/joint_dynamics.hpp"
 #include "robomill/robot/kinematics.hpp"
 #include "robomill/robot/robot_model.hpp"
@@ -15,44 +16,11 @@
 namespace {
 
 using namespace robomill::robot;
-constexpr double kPi = std::numbers::pi;
-
-LinkInertia link(double m, Eigen::Vector3d c, Eigen::Vector3d principal) {
-  LinkInertia l;
-  l.mass_kg = m;
-  l.center_of_mass_m = c;
-  l.inertia_kg_m2 = principal.asDiagonal();
-  return l;
-}
-
-std::vector<JointProperties> joints_004() {
-  // 004 §4.1: k1 = 2.4e5, k2 = k3 = 1e5 N·m/rad; θ1 ∈ [−π, π],
-  // θ2 ∈ [−π/2, π/2], θ3 ∈ [−π/3, π/3].
-  return {{-kPi, kPi, 2.4e5, -1.0}, {-kPi / 2, kPi / 2, 1e5, -1.0}, {-kPi / 3, kPi / 3, 1e5, -1.0}};
-}
-
-// 004 §4.1 in modified (Craig) DH: frame i at joint i, z_i its axis, x2 and
-// x3 along links 2 and 3, so Table 1's link 2 and 3 rows apply verbatim. The
-// Craig frame 1 sits on joint 2's height (d1 = l1 = 0.2 m), 0.2 m above the
-// paper's o1, so link 1's centre of mass (0, 0, 0.1) becomes (0, 0, −0.1).
-RobotDescription robot_004_modified() {
-  RobotDescription d;
-  d.name = "004";
-  DhTable dh;
-  dh.convention = DhConvention::modified;
-  dh.rows = {{0.0, 0.0, 0.2, 0.0}, {0.0, kPi / 2, 0.0, 0.0}, {0.8, 0.0, 0.0, 0.0}};
-  dh.links = {link(80, {0, 0, -0.1}, {0.9, 1.0, 1.0}), link(40, {0.4, 0, 0}, {0.6, 6.5, 6.5}),
-              link(55, {0.4, 0, 0}, {0.8, 9.5, 9.5})};
-  d.dh = dh;
-  d.joints = joints_004();
-  d.flange_to_tool.translation() = Eigen::Vector3d(0.8, 0.0, 0.0);  // o3→ot = [l3, 0, 0]
-  d.modal_damping_ratio = 0.06;
-  return d;
-}
+using namespace robomill::test;
 
 // The same robot in standard DH: frame i at the distal end of link i.
 RobotDescription robot_004_standard() {
-  RobotDescription d = robot_004_modified();
+  RobotDescription d = robot_004();
   DhTable dh;
   dh.convention = DhConvention::standard;
   dh.rows = {{0.0, kPi / 2, 0.2, 0.0}, {0.8, 0.0, 0.0, 0.0}, {0.8, 0.0, 0.0, 0.0}};
@@ -113,7 +81,7 @@ void expect_invalid(const RobotDescription& d, const std::string& fragment) {
 }
 
 TEST(RobotModel, BuildsDhChainWithToolSegment) {
-  const RobotModel m(robot_004_modified());
+  const RobotModel m(robot_004());
   EXPECT_EQ(m.dof(), 3);
   EXPECT_EQ(m.chain().getNrOfJoints(), 3u);
   EXPECT_EQ(m.chain().getNrOfSegments(), 4u);  // three links + the fixed tool segment
@@ -128,7 +96,7 @@ TEST(RobotModel, BuildsDhChainWithToolSegment) {
 TEST(RobotModel, ModifiedDhPlacesThe004RobotAsSection41Says) {
   // q = 0: links 2 and 3 stretched along x at the height l1 = 0.2 m; q2 > 0
   // lifts the arm (z2 = −y), q1 turns it about the vertical.
-  const RobotModel m(robot_004_modified());
+  const RobotModel m(robot_004());
   EXPECT_LT(
       (tool_pose(m, Eigen::Vector3d::Zero()).translation() - Eigen::Vector3d(1.6, 0, 0.2)).norm(),
       1e-15);
@@ -141,7 +109,7 @@ TEST(RobotModel, StandardModifiedAndUrdfDescriptionsOf004Agree) {
   // The same robot three ways: tool poses and mass matrices must coincide,
   // which checks the placement of the joint axes and the link inertias in
   // each convention (KDL: segment inertia in the segment's tip frame).
-  const RobotModel mod(robot_004_modified());
+  const RobotModel mod(robot_004());
   const RobotModel std_dh(robot_004_standard());
   const RobotModel urdf(robot_004_urdf());
   for (const Eigen::Vector3d& q : {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0.3, -0.7, 0.9),
@@ -168,7 +136,7 @@ TEST(RobotModel, UrdfLimitsAreTakenFromTheFileWhenAsked) {
 }
 
 TEST(RobotModel, BaseAndToolFramesAreApplied) {
-  RobotDescription d = robot_004_modified();
+  RobotDescription d = robot_004();
   d.base =
       Eigen::Translation3d(1.0, 2.0, 0.5) * Eigen::AngleAxisd(kPi / 2, Eigen::Vector3d::UnitZ());
   d.flange_to_tool =
@@ -181,44 +149,44 @@ TEST(RobotModel, BaseAndToolFramesAreApplied) {
 }
 
 TEST(RobotModelValidation, RejectsBadJointsNamingThem) {
-  RobotDescription d = robot_004_modified();
+  RobotDescription d = robot_004();
   d.joints[1].stiffness_nm_per_rad = 0.0;
   expect_invalid(d, "joint 2");
-  d = robot_004_modified();
+  d = robot_004();
   d.joints[2].stiffness_nm_per_rad = std::nan("");
   expect_invalid(d, "joint 3: stiffness");
-  d = robot_004_modified();
+  d = robot_004();
   d.joints[0].lower_rad = 1.0;
   d.joints[0].upper_rad = 1.0;
   expect_invalid(d, "joint 1: lower limit");
-  d = robot_004_modified();
+  d = robot_004();
   d.joints[2].damping_nms_per_rad = -3.0;
   expect_invalid(d, "joint 3: damping");
-  d = robot_004_modified();
+  d = robot_004();
   d.joints.pop_back();
   expect_invalid(d, "3 rows but 2 joint entries");
-  d = robot_004_modified();
+  d = robot_004();
   d.joints.clear();
   expect_invalid(d, "no joints");
-  d = robot_004_modified();
+  d = robot_004();
   d.urdf = UrdfSource{kUrdf004, "base", "flange"};
   expect_invalid(d, "exactly one of");
-  d = robot_004_modified();
+  d = robot_004();
   d.modal_damping_ratio = 1.5;
   expect_invalid(d, "modal_damping_ratio");
 }
 
 TEST(RobotModelValidation, RejectsBadLinksNamingThem) {
-  RobotDescription d = robot_004_modified();
+  RobotDescription d = robot_004();
   d.dh->links[1].mass_kg = -1.0;
   expect_invalid(d, "link 2: mass");
-  d = robot_004_modified();
+  d = robot_004();
   d.dh->links[2].inertia_kg_m2(0, 0) = -0.5;  // not PSD
   expect_invalid(d, "link 3: inertia tensor must be positive semi-definite");
-  d = robot_004_modified();
+  d = robot_004();
   d.dh->links[0].inertia_kg_m2(0, 1) = 0.3;  // not symmetric
   expect_invalid(d, "link 1: inertia tensor must be symmetric");
-  d = robot_004_modified();
+  d = robot_004();
   d.dh->links.pop_back();
   expect_invalid(d, "2 links");
 }

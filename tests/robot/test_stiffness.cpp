@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "example_robots.hpp"
 #include "robomill/robot/kinematics.hpp"
 #include "robomill/robot/robot_model.hpp"
 #include "robomill/robot/stiffness.hpp"
@@ -16,50 +17,7 @@
 namespace {
 
 using namespace robomill::robot;
-constexpr double kPi = std::numbers::pi;
-constexpr double kDeg = kPi / 180.0;
-
-// KR 600 R2830-class standard DH (nominal public dimensions; see
-// test_kinematics.cpp), Kq of 000 §6.1.
-RobotDescription kr600() {
-  RobotDescription d;
-  d.name = "KR600-class";
-  DhTable dh;
-  dh.rows = {{0.5, -kPi / 2, 1.045, 0.0}, {1.3, 0.0, 0.0, -kPi / 2}, {0.055, -kPi / 2, 0.0, 0.0},
-             {0.0, kPi / 2, 1.025, 0.0},  {0.0, -kPi / 2, 0.0, 0.0}, {0.0, 0.0, 0.29, 0.0}};
-  d.dh = dh;
-  const double k[] = {6.082e6, 6.816e6, 3.842e6, 2.926e6, 1.635e6, 2.479e6};
-  for (double ki : k)
-    d.joints.push_back({-2 * kPi, 2 * kPi, ki, -1.0});
-  d.flange_to_tool =
-      Eigen::Translation3d(0.08, 0.0, 0.35) * Eigen::AngleAxisd(kPi / 2, Eigen::Vector3d::UnitY());
-  d.base = Eigen::Translation3d(0.2, -0.4, 0.3) * Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ());
-  return d;
-}
-
-Eigen::VectorXd posture_000() {
-  Eigen::VectorXd q(6);
-  q << -71.73, -68.62, 110.51, 35.54, -47.68, -204.68;  // 000 §6.3
-  return q * kDeg;
-}
-
-RobotDescription robot_004() {
-  RobotDescription d;
-  d.name = "004";
-  DhTable dh;
-  dh.convention = DhConvention::modified;
-  dh.rows = {{0.0, 0.0, 0.2, 0.0}, {0.0, kPi / 2, 0.0, 0.0}, {0.8, 0.0, 0.0, 0.0}};
-  d.dh = dh;
-  d.joints = {
-      {-kPi, kPi, 2.4e5, -1.0}, {-kPi / 2, kPi / 2, 1e5, -1.0}, {-kPi / 3, kPi / 3, 1e5, -1.0}};
-  d.flange_to_tool.translation() = Eigen::Vector3d(0.8, 0.0, 0.0);
-  return d;
-}
-
-Eigen::Vector3d rotation_vector(const Eigen::Matrix3d& r) {
-  const Eigen::AngleAxisd aa(r);
-  return aa.angle() * aa.axis();
-}
+using namespace robomill::test;
 
 // Deflect the joints by ±Δq, Δq = Kq⁻¹ Jᵀ w (the joint springs' response to
 // the wrench), and compare the central FK displacement with C w.
