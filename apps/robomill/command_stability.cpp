@@ -290,7 +290,7 @@ int run_stability(const JobCommandOptions& options) {
   std::optional<dynamics::ModalModel> modes;
   if (!measured) {
     modes = io::structure_modes(job);
-    if (job.dynamics_source == io::Job::DynamicsSource::fit)
+    if (job.dynamics_source != io::Job::DynamicsSource::table)
       check_discretization(job, *modes);
   }
   stability::LobeOptions lobe_options;
@@ -350,9 +350,10 @@ int run_stability(const JobCommandOptions& options) {
       {"modes", settings.modes == Settings::Modes::coupled    ? "coupled"
                 : settings.modes == Settings::Modes::envelope ? "envelope"
                                                               : "both"},
-      {"dynamics", measured                                              ? "frf"
-                   : job.dynamics_source == io::Job::DynamicsSource::fit ? "fit"
-                                                                         : "table"},
+      {"dynamics", measured                                                ? "frf"
+                   : job.dynamics_source == io::Job::DynamicsSource::fit   ? "fit"
+                   : job.dynamics_source == io::Job::DynamicsSource::robot ? "robot"
+                                                                           : "table"},
       {"mode_count", modes ? modes->size() : 0},
       {"process_damping", settings.process_damping == Settings::Damping::none ? "none"
                           : settings.process_damping == Settings::Damping::energy_balance

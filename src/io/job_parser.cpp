@@ -1188,7 +1188,7 @@ void read_dynamics(SectionReader& root, Job& job) {
   if (!section)
     return;
   SectionReader& r = *section;
-  r.allow({"modes", "frf", "fit", "use"}, {"from_robot", "postures"},
+  r.allow({"modes", "frf", "fit", "use", "from_robot"}, {"postures"},
           "unknown key (not supported by this version of robomill)");
   if (auto items = r.sections("modes")) {
     if (items->empty())
@@ -1231,6 +1231,14 @@ void read_dynamics(SectionReader& root, Job& job) {
   }
   if (auto fit = r.section("fit"))
     job.fit = read_fit(*fit);
+  if (r.boolean_or("from_robot", false)) {
+    // The robot model at its posture (robot.posture) gives the modes.
+    if (r.has("use"))
+      r.fail("use", "conflicts with from_robot: true; give one of them");
+    job.dynamics_source = Job::DynamicsSource::robot;
+    r.finish();
+    return;
+  }
   const std::string fallback = job.modes.empty() && !job.frf_files.empty() ? "fit" : "table";
   const std::string use = r.choice("use", {"table", "fit", "frf"}, fallback);
   job.dynamics_source = use == "fit"   ? Job::DynamicsSource::fit

@@ -7,6 +7,8 @@
 #include "robomill/core/error.hpp"
 #include "robomill/io/frf_csv.hpp"
 #include "robomill/io/uff58.hpp"
+#include "robomill/robot/joint_dynamics.hpp"
+#include "robomill/robot/kinematics.hpp"
 
 namespace robomill::io {
 
@@ -88,6 +90,25 @@ dynamics::ModalModel structure_modes(const Job& job) {
       return modal_model(job);
     case Job::DynamicsSource::fit:
       return fit_structure(job, load_measured_frfs(job)).modes;
+    case Job::DynamicsSource::robot: {
+      if (!job.robot)
+        throw InputError("dynamics.from_robot", 0, "needs a robot: section");
+      if (job.robot->posture_rad.empty())
+        throw InputError("robot.posture", 0,
+                         "required with dynamics.from_robot: the posture whose modes to use");
+      try {
+        const robot::RobotModel model(job.robot->description);
+        const Eigen::VectorXd q = Eigen::Map<const Eigen::VectorXd>(
+            job.robot->posture_rad.data(),
+            static_cast<Eigen::Index>(job.robot->posture_rad.size()));
+        // The modes along the tool's own axes at that posture (x the feed,
+        // z the tool axis: the robot's tool frame must be set up so).
+        return robot::tool_tip_modal_model(model, q,
+                                           robot::tool_pose(model, q).linear().transpose());
+      } catch (const std::invalid_argument& error) {
+        throw InputError("robot", 0, error.what());
+      }
+    }
     case Job::DynamicsSource::frf:
       break;
   }

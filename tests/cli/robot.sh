@@ -25,6 +25,15 @@ grep -q '"dynamics_note"' "$WORK/r0/summary.json" || fail "KR600: statics-only n
 grep -q '"principal_stiffness"' "$WORK/r0/summary.json" || fail "KR600: principal stiffness missing"
 [ ! -e "$WORK/r0/frf.csv" ] || fail "KR600 without masses should write no frf.csv"
 
+# The stability engine takes the robot's tool-tip modes (dynamics.from_robot).
+STAB='stability={speeds: {from: 500 rpm, to: 3000 rpm, count: 8}, depth_max: 20 mm, method: zoa}'
+"$ROBOMILL" stability "$JOB" --set dynamics.from_robot=true --set "$STAB" --out "$WORK/s" --quiet \
+  || fail "stability from_robot exit code"
+grep -q '"dynamics": "robot"' "$WORK/s/summary.json" || fail "stability from_robot: dynamics not robot"
+grep -q '"mode_count": 3' "$WORK/s/summary.json" || fail "stability from_robot: three robot modes"
+expect_exit2 "robot.posture" stability "$JOB" --set dynamics.from_robot=true --set "$STAB" \
+  --set 'robot.posture=null'
+
 expect_exit2 "robot.posture[2]" robot "$JOB" --set 'robot.posture=[0, 45, -80]'
 expect_exit2 "robot.joint_stiffness[1]" robot "$JOB" --set 'robot.joint_stiffness=[2.4e5, -5, 1e5]'
 expect_exit2 "robot.joints[2].upper" robot "$JOB" --set 'robot.joints[2].upper=-70'

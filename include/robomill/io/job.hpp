@@ -135,7 +135,9 @@ struct Job {
   /// `dynamics.use`: what the analyses take as the structure — the modal
   /// table, modes fitted to the FRF files, or (zero-order stability only)
   /// the measured FRFs themselves.
-  enum class DynamicsSource { table, fit, frf } dynamics_source = DynamicsSource::table;
+  /// `robot`: the robot model's tool-tip modes at robot.posture
+  /// (`dynamics.from_robot: true`).
+  enum class DynamicsSource { table, fit, frf, robot } dynamics_source = DynamicsSource::table;
   std::vector<Experiment> experiments;
   std::optional<RobotSettings> robot;  ///< `robot:`
   OutputSettings output;
