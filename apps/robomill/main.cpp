@@ -32,6 +32,14 @@ void add_job_options(CLI::App& command, robomill::app::JobCommandOptions& option
   command.add_flag("--quiet", options.quiet, "print nothing but errors");
 }
 
+/// A subcommand that runs on a job file, with the shared job options.
+CLI::App* add_job_command(CLI::App& app, const std::string& name, const std::string& description,
+                          robomill::app::JobCommandOptions& options, bool writes_output = true) {
+  CLI::App* command = app.add_subcommand(name, description);
+  add_job_options(*command, options, writes_output);
+  return command;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -40,32 +48,32 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "robomill 0.1.0");
 
   robomill::app::JobCommandOptions validate_options, forces_options, stability_options;
-  CLI::App* validate = app.add_subcommand("validate", "check a job file without running it");
-  add_job_options(*validate, validate_options, false);
+  CLI::App* validate = add_job_command(app, "validate", "check a job file without running it",
+                                       validate_options, false);
 
-  CLI::App* forces = app.add_subcommand(
-      "forces",
-      "milling forces and spindle torque over whole revolutions → forces.csv, summary.json");
-  add_job_options(*forces, forces_options, true);
+  CLI::App* forces = add_job_command(
+      app, "forces",
+      "milling forces and spindle torque over whole revolutions → forces.csv, summary.json",
+      forces_options);
 
-  CLI::App* stability = app.add_subcommand(
-      "stability",
-      "stability lobe diagram: limiting depth per spindle speed → sld.csv (map.csv), summary.json");
-  add_job_options(*stability, stability_options, true);
+  CLI::App* stability = add_job_command(
+      app, "stability",
+      "stability lobe diagram: limiting depth per spindle speed → sld.csv (map.csv), summary.json",
+      stability_options);
 
   robomill::app::JobCommandOptions fit_options;
-  CLI::App* fit = app.add_subcommand(
-      "fit-modes",
+  CLI::App* fit = add_job_command(
+      app, "fit-modes",
       "modal parameters from the job's measured FRFs (dynamics.frf) → modes.csv, frf_fit.csv, "
-      "stabilization.csv, modes.yaml, summary.json");
-  add_job_options(*fit, fit_options, true);
+      "stabilization.csv, modes.yaml, summary.json",
+      fit_options);
 
   robomill::app::JobCommandOptions robot_options;
-  CLI::App* robot = app.add_subcommand(
-      "robot",
+  CLI::App* robot = add_job_command(
+      app, "robot",
       "the robot's structure at a posture: pose, Jacobian, compliance, natural frequencies, "
-      "tool-tip FRF; with robot.map a workspace map → summary.json, frf.csv, modes.csv, map.csv");
-  add_job_options(*robot, robot_options, true);
+      "tool-tip FRF; with robot.map a workspace map → summary.json, frf.csv, modes.csv, map.csv",
+      robot_options);
 
   robomill::app::IdentifyOptions identify_options;
   CLI::App* identify = app.add_subcommand(
@@ -93,11 +101,11 @@ int main(int argc, char** argv) {
   identify->add_flag("--quiet", identify_options.quiet, "print nothing but errors");
 
   robomill::app::FrfCommandOptions frf_options;
-  CLI::App* frf = app.add_subcommand(
-      "frf",
+  CLI::App* frf = add_job_command(
+      app, "frf",
       "tool-tip FRFs of the job's modal table (optionally with noise) → frf.uff or frf_*.csv, "
-      "summary.json");
-  add_job_options(*frf, frf_options.job, true);
+      "summary.json",
+      frf_options.job);
   frf->add_option("--from", frf_options.from, "lowest frequency (default 0 Hz)");
   frf->add_option("--to", frf_options.to, "highest frequency (default 1.5 x the highest mode)");
   frf->add_option("--step", frf_options.step,

@@ -8,9 +8,12 @@
 #include <stdexcept>
 #include <string>
 
+#include "expect_invalid.hpp"
 #include "robomill/robot/posture_interpolation.hpp"
 
 namespace {
+
+using robomill::test::expect_invalid;
 
 using namespace robomill::robot;
 
@@ -30,16 +33,6 @@ Library random_library(unsigned seed) {
     library.payloads.push_back(Eigen::VectorXd::NullaryExpr(4, [&] { return value(rng); }));
   }
   return library;
-}
-
-template <typename F>
-void expect_invalid(F&& call, const std::string& fragment) {
-  try {
-    call();
-    FAIL() << "expected std::invalid_argument mentioning \"" << fragment << "\"";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
-  }
 }
 
 TEST(PostureInterpolation, ExactAtEachMeasuredPosture) {

@@ -10,9 +10,12 @@
 #include <stdexcept>
 #include <string>
 
+#include "expect_invalid.hpp"
 #include "robomill/robot/stiffness_identification.hpp"
 
 namespace {
+
+using robomill::test::expect_invalid;
 
 using namespace robomill::robot;
 constexpr double kPi = std::numbers::pi;
@@ -109,17 +112,6 @@ const Eigen::Vector3d kTool(0.8, 0.0, 0.3);  // loading point in the flange fram
 const std::vector<Eigen::Vector3d> kForces{Eigen::Vector3d(800.0, 0.0, 0.0),
                                            Eigen::Vector3d(0.0, 800.0, 0.0),
                                            Eigen::Vector3d(0.0, 0.0, -800.0)};
-
-template <typename F>
-void expect_invalid(F&& call, const std::string& fragment) {
-  try {
-    call();
-    FAIL() << "expected std::invalid_argument mentioning \"" << fragment << "\"";
-  } catch (const std::invalid_argument& e) {
-    std::printf("  refused: %s\n", e.what());
-    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
-  }
-}
 
 TEST(StiffnessIdentification, NoiseFreeDataRecoverStiffnessExactly) {
   const auto samples = synthesize(postures(), kForces, kTool, 0.0, 1);
