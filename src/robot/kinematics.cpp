@@ -222,6 +222,21 @@ Eigen::Matrix<double, 6, Eigen::Dynamic> tool_jacobian(const RobotModel& model,
   return j;
 }
 
+Eigen::Matrix<double, 6, Eigen::Dynamic> point_jacobian(const RobotModel& model,
+                                                        const Eigen::VectorXd& q,
+                                                        const Eigen::Vector3d& offset_tool_m) {
+  if (!offset_tool_m.allFinite())
+    throw std::invalid_argument("point_jacobian: the offset must be finite");
+  Eigen::Matrix<double, 6, Eigen::Dynamic> j = tool_jacobian(model, q);
+  const Eigen::Vector3d r = tool_pose(model, q).linear() * offset_tool_m;
+  // v_p = v + ω × r = v − [r]× ω, column by column.
+  for (Eigen::Index c = 0; c < j.cols(); ++c) {
+    const Eigen::Vector3d omega = j.block<3, 1>(3, c);
+    j.block<3, 1>(0, c) += omega.cross(r);
+  }
+  return j;
+}
+
 IkResult inverse_kinematics(const RobotModel& model, const Eigen::Isometry3d& target_tool_pose,
                             const Eigen::VectorXd& q_seed, const IkOptions& options) {
   check_q(model, q_seed, "inverse_kinematics seed");

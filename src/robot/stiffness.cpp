@@ -52,6 +52,16 @@ Vector6d deflection(const RobotModel& model, const Eigen::VectorXd& q, const Vec
   return cartesian_compliance(model, q) * wrench;
 }
 
+Vector6d deflection_between(const RobotModel& model, const Eigen::VectorXd& q,
+                            const Eigen::Vector3d& measured_offset_tool_m,
+                            const Eigen::Vector3d& loaded_offset_tool_m, const Vector6d& wrench) {
+  if (!wrench.allFinite())
+    throw std::invalid_argument("deflection: the wrench must be finite");
+  const Eigen::MatrixXd jc = point_jacobian(model, q, measured_offset_tool_m);
+  const Eigen::MatrixXd je = point_jacobian(model, q, loaded_offset_tool_m);
+  return jc * (model.joint_stiffness().cwiseInverse().asDiagonal() * (je.transpose() * wrench));
+}
+
 Matrix6d cartesian_stiffness(const RobotModel& model, const Eigen::VectorXd& q) {
   if (model.dof() < 6) {
     throw std::invalid_argument(

@@ -57,6 +57,60 @@ TEST(Stiffness, ComplianceMatchesDeflectedFk004) {
   expect_compliance_matches_fk(m, Eigen::Vector3d(0.4, -0.6, 0.8), w);
 }
 
+// 000 Eq 3 with Jc ≠ Je: a load hung 0.25 m off the tip, a target ball
+// 0.1 m up the tool. The joints deflect by Δq = Kq⁻¹ Jeᵀ w; the measured
+// point moves by what FK of the point says, central differences.
+TEST(Stiffness, DeflectionBetweenTwoPointsMatchesDeflectedFk) {
+  const RobotModel m(kr600());
+  const Eigen::VectorXd q = posture_000();
+  const Eigen::Vector3d measured(0.0, 0.02, 0.1), loaded(0.25, -0.05, 0.0);
+  Vector6d w;
+  w << 30.0, -12.0, 25.0, 1.5, -2.0, 0.8;
+  const Eigen::VectorXd dq = m.joint_stiffness().cwiseInverse().asDiagonal() *
+                             (point_jacobian(m, q, loaded).transpose() * w);
+  auto point = [&](const Eigen::VectorXd& qq) { return tool_pose(m, qq) * measured; };
+  const Eigen::Vector3d fk = (point(q + dq) - point(q - dq)) / 2;
+  const Vector6d ours = deflection_between(m, q, measured, loaded, w);
+  const double relative = (fk - ours.head<3>()).norm() / ours.head<3>().norm();
+  EXPECT_LT(relative, 1e-6);
+  std::printf(
+      "[validation] KR600 Jc Kq⁻¹ Jeᵀ w vs deflected FK of the measured point: %.2e "
+      "relative (%.3e m)\n",
+      relative, ours.head<3>().norm());
+  // Zero offsets: Eq 3 with Jc = Je, the tip compliance.
+  EXPECT_LT((deflection_between(m, q, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), w) -
+             deflection(m, q, w))
+                .norm(),
+            1e-15);
+  // Maxwell-Betti: the force-to-displacement block from e to c is the
+  // transpose of the one from c to e.
+  Eigen::Matrix3d c_from_e, e_from_c;
+  for (int k = 0; k < 3; ++k) {
+    Vector6d f = Vector6d::Zero();
+    f[k] = 1.0;
+    c_from_e.col(k) = deflection_between(m, q, measured, loaded, f).head<3>();
+    e_from_c.col(k) = deflection_between(m, q, loaded, measured, f).head<3>();
+  }
+  EXPECT_LT((c_from_e - e_from_c.transpose()).norm(), 1e-12 * c_from_e.norm());
+}
+
+TEST(Stiffness, PointJacobianMatchesFiniteDifferences) {
+  const RobotModel m(kr600());
+  const Eigen::VectorXd q = posture_000();
+  const Eigen::Vector3d offset(0.05, -0.1, 0.2);
+  const Eigen::MatrixXd j = point_jacobian(m, q, offset);
+  const double h = 1e-6;
+  for (int i = 0; i < m.dof(); ++i) {
+    Eigen::VectorXd qp = q, qm = q;
+    qp[i] += h;
+    qm[i] -= h;
+    const Eigen::Vector3d column =
+        (tool_pose(m, qp) * offset - tool_pose(m, qm) * offset) / (2 * h);
+    EXPECT_LT((column - j.block<3, 1>(0, i)).norm(), 1e-6 * column.norm()) << "joint " << i + 1;
+  }
+  EXPECT_THROW(point_jacobian(m, q, Eigen::Vector3d(NAN, 0, 0)), std::invalid_argument);
+}
+
 TEST(Stiffness, ComplianceIsJKinvJt) {
   const RobotModel m(kr600());
   const Eigen::VectorXd q = posture_000();

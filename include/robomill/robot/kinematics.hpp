@@ -24,6 +24,16 @@ Eigen::Isometry3d tool_pose(const RobotModel& model, const Eigen::VectorXd& q);
 Eigen::Matrix<double, 6, Eigen::Dynamic> tool_jacobian(const RobotModel& model,
                                                        const Eigen::VectorXd& q);
 
+/// Geometric Jacobian of a point fixed to the tool, `offset_tool_m` from the
+/// tool tip in the tool frame (a node up the cutter, a target ball, the point
+/// a test load hangs from): the linear rows move with the rigid-body
+/// transfer v_p = v_tip + ω × r, r = R_tool · offset (cell frame); the
+/// angular rows are the tool's. These are 000 Eq 3's Jc and Je when the
+/// measured and the loaded points differ.
+Eigen::Matrix<double, 6, Eigen::Dynamic> point_jacobian(const RobotModel& model,
+                                                        const Eigen::VectorXd& q,
+                                                        const Eigen::Vector3d& offset_tool_m);
+
 struct IkOptions {
   /// Convergence: ‖p_target − p‖ ≤ position_tolerance_m and, unless
   /// position_only, the rotation angle between the target and the reached

@@ -33,6 +33,15 @@ Eigen::Matrix3d translational_compliance(const RobotModel& model, const Eigen::V
 /// at the tool tip, cell frame (000 Eq 3, small deflections).
 Vector6d deflection(const RobotModel& model, const Eigen::VectorXd& q, const Vector6d& wrench);
 
+/// 000 Eq 3 in full: the deflection [δp; δθ] of a point c fixed to the tool
+/// under a wrench w applied at another point e, Jc Kq⁻¹ Jeᵀ w, both points
+/// given as offsets from the tool tip in the tool frame (point_jacobian).
+/// With both offsets zero this is deflection(). The wrench's moment is about
+/// e; cell frame throughout.
+Vector6d deflection_between(const RobotModel& model, const Eigen::VectorXd& q,
+                            const Eigen::Vector3d& measured_offset_tool_m,
+                            const Eigen::Vector3d& loaded_offset_tool_m, const Vector6d& wrench);
+
 /// K = C⁻¹ = J⁻ᵀ Kq J⁻¹ (000 Eq 4). Throws std::invalid_argument when the
 /// robot has fewer than 6 joints or J is singular at q (smallest singular
 /// value below 1e-10 of the largest), pointing to translational_stiffness.
