@@ -45,6 +45,18 @@ struct IdentifyOptions {
 };
 int run_identify_cutting(const IdentifyOptions& options);
 
+/// `robomill identify-stiffness DATA --job ROBOT.yaml`: Kq from loading tests
+/// (000 §6.1), or with `synthesize` the tests' displacements on the job's robot.
+struct IdentifyStiffnessOptions {
+  std::filesystem::path data_file;
+  JobCommandOptions job;  ///< job_file: the robot; out, overrides, quiet
+  double max_condition = 1e6;
+  bool synthesize = false;
+  double noise = 0.0;  ///< relative displacement noise of --synthesize
+  std::uint32_t seed = 1;
+};
+int run_identify_stiffness(const IdentifyStiffnessOptions& options);
+
 /// `robomill frf JOB`: FRFs synthesized from the job's modal table.
 struct FrfCommandOptions {
   JobCommandOptions job;

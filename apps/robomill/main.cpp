@@ -100,6 +100,38 @@ int main(int argc, char** argv) {
                        "output folder (default out/identify-cutting)");
   identify->add_flag("--quiet", identify_options.quiet, "print nothing but errors");
 
+  robomill::app::IdentifyStiffnessOptions stiffness_options;
+  CLI::App* identify_stiffness = app.add_subcommand(
+      "identify-stiffness",
+      "joint stiffness Kq by least squares from static loading tests (000 §6.1): CSV columns "
+      "q1_deg..qn_deg, fx_N,fy_N,fz_N [,mx_Nm,my_Nm,mz_Nm], dx_mm,dy_mm,dz_mm "
+      "[,target_x_mm,…] [,load_x_mm,…] → summary.json, fit.csv, joint_stiffness.yaml");
+  identify_stiffness->add_option("DATA", stiffness_options.data_file, "CSV of loading tests")
+      ->required();
+  identify_stiffness
+      ->add_option("--job", stiffness_options.job.job_file,
+                   "job whose robot section gives the geometry (its joint_stiffness is the "
+                   "value the result is compared with)")
+      ->required();
+  identify_stiffness->add_option("--set", stiffness_options.job.overrides,
+                                 "override a job field, e.g. --set robot.tool.xyz=[0,0,300]");
+  identify_stiffness->add_option("--out", stiffness_options.job.out_dir,
+                                 "output folder (default: the job's output.dir, else "
+                                 "out/identify-stiffness)");
+  identify_stiffness
+      ->add_option("--max-condition", stiffness_options.max_condition,
+                   "refuse data whose scaled condition number exceeds this (default 1e6)")
+      ->check(CLI::PositiveNumber);
+  identify_stiffness->add_flag(
+      "--synthesize", stiffness_options.synthesize,
+      "instead: write loading_tests.csv with the displacements the job's robot would show for "
+      "DATA's postures and loads (plan a test, or check the method)");
+  identify_stiffness->add_option("--noise", stiffness_options.noise,
+                                 "with --synthesize: relative displacement noise, e.g. 0.01");
+  identify_stiffness->add_option("--seed", stiffness_options.seed,
+                                 "with --synthesize: seed of the noise (default 1)");
+  identify_stiffness->add_flag("--quiet", stiffness_options.job.quiet, "print nothing but errors");
+
   robomill::app::FrfCommandOptions frf_options;
   CLI::App* frf = add_job_command(
       app, "frf",
@@ -138,6 +170,8 @@ int main(int argc, char** argv) {
       return robomill::app::run_robot(robot_options);
     if (fit->parsed())
       return robomill::app::run_fit_modes(fit_options);
+    if (identify_stiffness->parsed())
+      return robomill::app::run_identify_stiffness(stiffness_options);
     if (frf->parsed())
       return robomill::app::run_frf(frf_options);
   } catch (const robomill::InputError& error) {
