@@ -75,6 +75,13 @@ int main(int argc, char** argv) {
       "tool-tip FRF; with robot.map a workspace map → summary.json, frf.csv, modes.csv, map.csv",
       robot_options);
 
+  robomill::app::JobCommandOptions optimize_options;
+  CLI::App* optimize = add_job_command(
+      app, "optimize",
+      "workpiece pose minimizing the mean tool offset along the path (004): NLopt global search "
+      "+ local polish → summary.json, evaluations.csv, path.csv, landscape.csv",
+      optimize_options);
+
   robomill::app::IdentifyOptions identify_options;
   CLI::App* identify = app.add_subcommand(
       "identify-cutting",
@@ -170,6 +177,8 @@ int main(int argc, char** argv) {
       return robomill::app::run_robot(robot_options);
     if (fit->parsed())
       return robomill::app::run_fit_modes(fit_options);
+    if (optimize->parsed())
+      return robomill::app::run_optimize(optimize_options);
     if (identify_stiffness->parsed())
       return robomill::app::run_identify_stiffness(stiffness_options);
     if (frf->parsed())

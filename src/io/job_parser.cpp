@@ -26,6 +26,7 @@
 #include "robomill/io/units.hpp"
 #include "text.hpp"
 #include "yaml_reader.hpp"
+#include "job_parser_planning.hpp"
 
 namespace robomill::io {
 namespace detail {
@@ -1709,8 +1710,8 @@ Job read_job(const YAML::Node& root_node, const std::filesystem::path& source,
   const int root_line = provenance.line(root_node, "") > 0 ? provenance.line(root_node, "") : 1;
   SectionReader root(root_node, "", root_line, provenance);
   root.allow({"name", "tool", "cutting", "process", "forces", "dynamics", "stability",
-              "experiments", "robot", "output"},
-             {"simulation", "surface", "optimize"},
+              "experiments", "robot", "output", "workpiece", "path", "optimize"},
+             {"simulation", "surface"},
              "section not supported by this version of robomill");
   Job job;
   job.source = source;
@@ -1724,6 +1725,7 @@ Job read_job(const YAML::Node& root_node, const std::filesystem::path& source,
   job.experiments = read_experiments(root);
   if (auto robot = root.section("robot"))
     job.robot = read_robot_section(*robot, source);
+  detail::read_planning(root, job);  // workpiece, path, optimize (job_parser_planning.cpp)
   job.output = read_output(root);
   root.finish();
   return job;

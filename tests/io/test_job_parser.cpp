@@ -353,7 +353,8 @@ TEST(JobValidation, UnknownKeys) {
                "(did you mean 'teeth'?)");
   expect_error("name: a\nprocesss:\n  ap: 1\n", "processs", 2,
                "unknown key; expected one of: name, tool, cutting, process, forces, dynamics, "
-               "stability, experiments, robot, output (did you mean 'process'?)");
+               "stability, experiments, robot, output, workpiece, path, optimize (did you mean "
+               "'process'?)");
   expect_error("simulation:\n  duration: 1 s\n", "simulation", 1,
                "section not supported by this version of robomill");
   expect_error("robot:\n  dh: []\n", "robot.dh", 2, "one row {a, alpha, d, theta} per joint");

@@ -13,6 +13,7 @@
 #include "robomill/dynamics/axial_shape.hpp"
 #include "robomill/dynamics/frf.hpp"
 #include "robomill/dynamics/modal_model.hpp"
+#include "robomill/planning/pose_optimization.hpp"
 #include "robomill/robot/robot_description.hpp"
 #include "robomill/tool/tool.hpp"
 
@@ -116,6 +117,27 @@ struct StabilitySettings {
   double friction = 0.0;
 };
 
+/// `workpiece:` — the work table and the part's pose on it (004 §4.1, Eq 7).
+struct WorkpieceSettings {
+  planning::Workcell cell;
+  std::optional<planning::WorkpiecePose> pose;  ///< `pose: [xp, yp, θp]`
+};
+
+/// `optimize:` — the workpiece pose search of `robomill optimize` (004 Eq 8-9).
+struct OptimizeSettings {
+  planning::PoseBounds bounds;
+  planning::PoseOptimizationOptions options;
+  planning::OffsetMeasure measure = planning::OffsetMeasure::peak;
+  int harmonics = 60;                          ///< force harmonics kept
+  int samples = 256;                           ///< force samples per period
+  std::vector<planning::WorkpiecePose> poses;  ///< `poses:` evaluated and reported
+  std::array<int, 2> landscape_counts{0, 0};   ///< `landscape.counts` [nx, ny]; 0: none
+  std::vector<double> landscape_theta_rad;     ///< `landscape.theta`
+  /// `check_time_domain`: integrate Eq 1 in time at the best pose's first
+  /// point and report the difference to the harmonic steady state.
+  bool check_time_domain = false;
+};
+
 struct OutputSettings {
   std::string dir;  ///< empty: the command's default (out/<command>)
   bool csv = true, json = true, html = true;
@@ -139,7 +161,10 @@ struct Job {
   /// (`dynamics.from_robot: true`).
   enum class DynamicsSource { table, fit, frf, robot } dynamics_source = DynamicsSource::table;
   std::vector<Experiment> experiments;
-  std::optional<RobotSettings> robot;  ///< `robot:`
+  std::optional<RobotSettings> robot;          ///< `robot:`
+  std::optional<WorkpieceSettings> workpiece;  ///< `workpiece:`
+  std::vector<planning::PathPoint> path;       ///< `path:` (workpiece frame)
+  std::optional<OptimizeSettings> optimize;    ///< `optimize:`
   OutputSettings output;
 
   /// Resolves a path written in the job relative to the job file's folder.

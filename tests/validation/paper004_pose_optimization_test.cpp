@@ -1,0 +1,111 @@
+// Paper 004 (workpiece pose optimization, KR300-class 3-joint robot), Table 2
+// and §4.3: d_m (Eq 6) at the six listed workpiece poses, and the optimum.
+//
+//   paper: Table 2, d_m = 0.73, 0.32, 0.54, 0.25, 0.25, 0.22 mm at
+//          p = [0.6, 0.2, π/3], [0.2, 0.3, π/6], [0.3, −0.4, π/3],
+//          [0.5, −0.5, 0], [0, 0, 0], [0, −0.46, 0] (the last: its optimum)
+//   ours : examples/004_kr300_pose_optimization.yaml, d_i read as the
+//          largest offset after the cut starts on the robot at rest
+//          (measure: startup, the maximum an lsim run from rest shows)
+//   tolerance: each within 30 % of the paper; pose 1 the worst; poses 1 > 3 >
+//          2 > 4 > {5, 6} as in the paper. Poses 5 and 6 tie within 3 % in our
+//          model where the paper has 6 better by 12 % (documented disagreement,
+//          docs/validation.md); the optimizer's pose is at least as good as
+//          pose 6, and CRS2 runs with different seeds agree within 2 %.
+//   assumptions (docs/planning.md): joint 3's zero with the forearm ⊥ the upper
+//          arm (with the straight-arm zero, ±60° makes poses 2, 3, 5, 6
+//          unreachable); tilt about the part's yw; groove = closed 160 × 80 mm
+//          rectangle, point 1 a corner, counterclockwise; z_w = 0; Appendix A's
+//          tc in mm, kc1 in N/mm².
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <numbers>
+
+#include "robomill/io/job.hpp"
+#include "robomill/planning/pose_optimization.hpp"
+
+namespace {
+
+using namespace robomill;
+constexpr double kPi = std::numbers::pi;
+
+struct Table2 {
+  io::Job job =
+      io::load_job(std::string(ROBOMILL_SOURCE_DIR) + "/examples/004_kr300_pose_optimization.yaml");
+  robot::RobotModel robot{job.robot->description};
+  tool::Tool cutter{*job.tool};
+  cutting::MillingForceModel force{cutter, *job.cutting, *job.process,
+                                   cutting::default_axial_elements(cutter, 2e-3)};
+  planning::PlacementProblem problem;
+  Table2() {
+    problem.cell = job.workpiece->cell;
+    problem.path = job.path;
+    problem.force =
+        planning::force_harmonics(force, job.optimize->samples, job.optimize->harmonics);
+    problem.seed_posture_rad = Eigen::Map<const Eigen::VectorXd>(job.robot->posture_rad.data(), 3);
+    problem.measure = job.optimize->measure;
+  }
+};
+
+const double kPaperDm[6] = {0.73e-3, 0.32e-3, 0.54e-3, 0.25e-3, 0.25e-3, 0.22e-3};
+
+TEST(Paper004, Table2MeanOffsetAtTheSixPoses) {
+  const Table2 t;
+  ASSERT_EQ(t.job.optimize->poses.size(), 6u);
+  ASSERT_EQ(t.problem.measure, planning::OffsetMeasure::startup);
+  double dm[6];
+  for (int i = 0; i < 6; ++i) {
+    const auto path = planning::evaluate_path(t.robot, t.problem, t.job.optimize->poses[i]);
+    ASSERT_TRUE(path.reachable()) << "pose " << i + 1;
+    dm[i] = path.dm_m;
+    double peak = 0.0;
+    for (const auto& p : path.points)
+      peak += p.offset.peak_m / 20.0;
+    std::printf(
+        "[validation] 004 Table 2 pose %d: paper %.2f mm, ours %.3f mm (%+.0f %%); "
+        "steady-state peak %.3f mm\n",
+        i + 1, kPaperDm[i] * 1e3, dm[i] * 1e3, 100.0 * (dm[i] / kPaperDm[i] - 1.0), peak * 1e3);
+    EXPECT_NEAR(dm[i], kPaperDm[i], 0.3 * kPaperDm[i]) << "pose " << i + 1;
+  }
+  // The paper's order 1 > 3 > 2 > 4 ≥ 5 > 6.
+  EXPECT_GT(dm[0], dm[2]);
+  EXPECT_GT(dm[2], dm[1]);
+  EXPECT_GT(dm[1], dm[3]);
+  EXPECT_GT(dm[3], dm[4]);
+  EXPECT_GT(dm[3], dm[5]);
+  // Disagreement kept visible: 5 and 6 tie in our model (paper: 6 is 12 % better).
+  EXPECT_NEAR(dm[5], dm[4], 0.03 * dm[4]);
+}
+
+TEST(Paper004, OptimumIsAtLeastAsGoodAsThePapersAndSeedsAgree) {
+  const Table2 t;
+  const double paper_optimum_dm =
+      planning::evaluate_path(t.robot, t.problem, {0.0, -0.46, 0.0}).dm_m;
+  planning::PoseOptimizationOptions options = t.job.optimize->options;
+  options.threads = 2;
+  const auto direct =
+      planning::optimize_workpiece_pose(t.robot, t.problem, t.job.optimize->bounds, options);
+  ASSERT_TRUE(direct.found);
+  std::printf(
+      "[validation] 004 §4.3 optimum: paper [0, -0.46, 0] (ours %.4f mm there); DIRECT-L "
+      "+ BOBYQA [%.4f, %.4f, %.4f] dm %.4f mm, %zu evaluations, %.2f s\n",
+      paper_optimum_dm * 1e3, direct.best.x_m, direct.best.y_m, direct.best.theta_rad,
+      direct.dm_m * 1e3, direct.evaluations.size(), direct.elapsed_s);
+  EXPECT_LE(direct.dm_m, paper_optimum_dm);
+  EXPECT_LT(direct.best.theta_rad, kPi / 12);  // flat is best, as in the paper
+
+  options.global = planning::GlobalMethod::crs2;
+  for (unsigned seed : {3u, 11u}) {
+    options.seed = seed;
+    const auto crs =
+        planning::optimize_workpiece_pose(t.robot, t.problem, t.job.optimize->bounds, options);
+    ASSERT_TRUE(crs.found);
+    std::printf("[validation] CRS2 seed %u: [%.4f, %.4f, %.4f] dm %.4f mm\n", seed, crs.best.x_m,
+                crs.best.y_m, crs.best.theta_rad, crs.dm_m * 1e3);
+    EXPECT_NEAR(crs.dm_m, direct.dm_m, 0.02 * direct.dm_m) << "seed " << seed;
+  }
+}
+
+}  // namespace
