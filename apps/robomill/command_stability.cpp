@@ -350,10 +350,7 @@ int run_stability(const JobCommandOptions& options) {
       {"modes", settings.modes == Settings::Modes::coupled    ? "coupled"
                 : settings.modes == Settings::Modes::envelope ? "envelope"
                                                               : "both"},
-      {"dynamics", measured                                                ? "frf"
-                   : job.dynamics_source == io::Job::DynamicsSource::fit   ? "fit"
-                   : job.dynamics_source == io::Job::DynamicsSource::robot ? "robot"
-                                                                           : "table"},
+      {"dynamics", io::dynamics_source_name(job.dynamics_source)},
       {"mode_count", modes ? modes->size() : 0},
       {"process_damping", settings.process_damping == Settings::Damping::none ? "none"
                           : settings.process_damping == Settings::Damping::energy_balance
@@ -363,6 +360,20 @@ int run_stability(const JobCommandOptions& options) {
   };
   if (settings.method != Settings::Method::zoa)
     summary["discretization"] = settings.discretization;
+  if (job.posture_library) {
+    // 001 Eq 16-18: where the table was interpolated and with what weights.
+    const io::PostureLibrary& library = *job.posture_library;
+    nlohmann::json query = nlohmann::json::array(), weights = nlohmann::json::array();
+    for (Eigen::Index i = 0; i < library.query_rad.size(); ++i)
+      query.push_back(library.query_rad[i] * 180.0 / std::numbers::pi);
+    for (Eigen::Index i = 0; i < library.weights.size(); ++i)
+      weights.push_back(library.weights[i]);
+    summary["posture_interpolation"] = {{"at_deg", query},
+                                        {"from", library.query_source},
+                                        {"postures", library.postures_rad.size()},
+                                        {"weights", weights},
+                                        {"exact_posture", library.exact_index + 1}};
+  }
   summary.update(diagram_summary(primary));
   if (want_coupled && want_envelope) {
     summary["envelope"] = diagram_summary(envelope);

@@ -1,3 +1,5 @@
+#include <fmt/format.h>
+
 #include <iostream>
 
 #include "commands.hpp"
@@ -41,6 +43,20 @@ int run_validate(const JobCommandOptions& options) {
     if (!sections.empty())
       std::cout << " (" << sections << ")";
     std::cout << '\n';
+    if (job.posture_library) {
+      // What 001 Eq 16-18 made of the library at the job's posture.
+      const io::PostureLibrary& library = *job.posture_library;
+      std::cout << fmt::format("  dynamics.postures: {} measured postures interpolated at {}",
+                               library.postures_rad.size(), library.query_source);
+      if (library.exact_index >= 0)
+        std::cout << fmt::format(" (= posture {})", library.exact_index + 1);
+      std::cout << ":\n";
+      for (const io::ModeSpec& mode : job.modes) {
+        std::cout << fmt::format("    {}: fn {:.4g} Hz, zeta {:.3g} %, k {:.4g} N/m\n",
+                                 mode.direction, mode.natural_frequency_hz,
+                                 100.0 * mode.damping_ratio, mode.stiffness_n_per_m);
+      }
+    }
   }
   return 0;
 }

@@ -157,4 +157,20 @@ dynamics::ModalModel modal_model(const Job& job) {
   return dynamics::ModalModel(std::move(modes));
 }
 
+const char* dynamics_source_name(Job::DynamicsSource source) {
+  switch (source) {
+    case Job::DynamicsSource::table:
+      return "table";
+    case Job::DynamicsSource::fit:
+      return "fit";
+    case Job::DynamicsSource::frf:
+      return "frf";
+    case Job::DynamicsSource::robot:
+      return "robot";
+    case Job::DynamicsSource::postures:
+      return "postures";
+  }
+  return "table";
+}
+
 }  // namespace robomill::io

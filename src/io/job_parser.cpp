@@ -1184,13 +1184,150 @@ FitSettings read_fit(SectionReader& fit) {
   return settings;
 }
 
+/// `dynamics.postures` (001 §2.2.2): a list of {posture: [deg...], modes:
+/// [...]}, every posture listing the same modes (direction, k or m) in the
+/// same order; `at` and `idw: {power, joint_weights}` optional. The table is
+/// interpolated later (resolve_posture_library), once robot.posture is known.
+void read_posture_library(SectionReader& r, Job& job) {
+  for (const char* key : {"modes", "frf", "fit", "use", "from_robot"}) {
+    if (r.has(key)) {
+      r.fail(key, "conflicts with dynamics.postures: the modes come from the posture library");
+    }
+  }
+  PostureLibrary library;
+  const QuantityField angle = field(dimensions::angle, kDeg, "deg");
+  auto entries = r.sections("postures");
+  if (entries->empty())
+    r.fail("postures", "must list at least one measured posture {posture: [...], modes: [...]}");
+  for (std::size_t i = 0; i < entries->size(); ++i) {
+    SectionReader& e = (*entries)[i];
+    e.allow({"posture", "modes"});
+    const auto q = e.quantities("posture", angle);
+    if (!q)
+      e.fail("posture", "required: the joint angles of this measurement (deg by default)");
+    if (!library.postures_rad.empty() &&
+        static_cast<Eigen::Index>(q->size()) != library.postures_rad.front().size()) {
+      e.fail("posture", fmt::format("has {} joint angles, the first posture {}", q->size(),
+                                    library.postures_rad.front().size()));
+    }
+    library.postures_rad.push_back(Eigen::Map<const Eigen::VectorXd>(q->data(), q->size()));
+    auto modes = e.sections("modes");
+    if (!modes || modes->empty())
+      e.fail("modes", "required: the modes measured at this posture");
+    std::vector<ModeSpec> table;
+    for (SectionReader& m : *modes) {
+      table.push_back(read_mode(m));
+      if (table.back().direction == 'v' || !table.back().shape.empty()) {
+        m.fail(table.back().direction == 'v' ? "direction" : "shape",
+               "a posture library takes modes along x, y or z with k or m (what is averaged "
+               "between postures must mean the same at each)");
+      }
+    }
+    const std::vector<ModeSpec>& first = library.tables.empty() ? table : library.tables.front();
+    if (table.size() != first.size()) {
+      e.fail("modes", fmt::format("lists {} modes, the first posture {}: every posture lists the "
+                                  "same modes in the same order",
+                                  table.size(), first.size()));
+    }
+    for (std::size_t k = 0; k < table.size(); ++k) {
+      if (table[k].direction != first[k].direction) {
+        e.fail("modes", fmt::format("mode {} is along {}, the first posture's along {}: every "
+                                    "posture lists the same modes in the same order",
+                                    k + 1, table[k].direction, first[k].direction));
+      }
+    }
+    library.tables.push_back(std::move(table));
+    e.finish();
+  }
+  if (auto at = r.quantities("at", angle, library.postures_rad.front().size())) {
+    library.query_rad = Eigen::Map<const Eigen::VectorXd>(at->data(), at->size());
+    library.query_source = "dynamics.at";
+  }
+  if (auto idw = r.section("idw")) {
+    idw->allow({"power", "joint_weights"});
+    library.idw.power = idw->quantity_or("power", dimensionless(kPositive), 1.0);
+    if (auto w = idw->quantities("joint_weights", dimensionless(kNonNegative),
+                                 library.postures_rad.front().size())) {
+      library.idw.joint_weights = Eigen::Map<const Eigen::VectorXd>(w->data(), w->size());
+      if (!(library.idw.joint_weights.maxCoeff() > 0.0))
+        idw->fail("joint_weights", "must not all be zero");
+    }
+    idw->finish();
+  }
+  job.posture_library = std::move(library);
+  job.dynamics_source = Job::DynamicsSource::postures;
+  r.finish();
+}
+
+/// 001 Eq 16-18 at the query posture: fn and ζ averaged, k through the
+/// compliance 1/k (interpolate_modal_tables), written into job.modes.
+void resolve_posture_library(Job& job) {
+  if (!job.posture_library)
+    return;
+  PostureLibrary& library = *job.posture_library;
+  const auto dof = library.postures_rad.front().size();
+  if (job.robot && static_cast<Eigen::Index>(job.robot->description.joints.size()) != dof) {
+    throw InputError("dynamics.postures[0].posture", 0,
+                     fmt::format("has {} joint angles but the robot has {} joints", dof,
+                                 job.robot->description.joints.size()));
+  }
+  if (library.query_source.empty()) {
+    if (!job.robot || job.robot->posture_rad.empty()) {
+      throw InputError("dynamics.at", 0,
+                       "required with dynamics.postures (or robot.posture): the posture to "
+                       "interpolate the measured modes at");
+    }
+    library.query_rad = Eigen::Map<const Eigen::VectorXd>(job.robot->posture_rad.data(),
+                                                          job.robot->posture_rad.size());
+    library.query_source = "robot.posture";
+  }
+  std::vector<std::vector<robot::DirectionalModeParameters>> tables;
+  for (const auto& table : library.tables) {
+    std::vector<robot::DirectionalModeParameters> t;
+    for (const ModeSpec& m : table) {
+      t.push_back(
+          {m.direction - 'x', m.natural_frequency_hz, m.damping_ratio, m.stiffness_n_per_m});
+    }
+    tables.push_back(std::move(t));
+  }
+  try {
+    const robot::IdwResult weights =
+        robot::idw_weights(library.postures_rad, library.query_rad, library.idw);
+    library.weights = weights.weights;
+    library.exact_index = weights.exact_index;
+    const auto modes = robot::interpolate_modal_tables(library.postures_rad, tables,
+                                                       library.query_rad, library.idw);
+    job.modes.clear();
+    for (const auto& m : modes) {
+      ModeSpec spec;
+      spec.direction = static_cast<char>('x' + m.axis);
+      spec.direction_vector = Eigen::Vector3d::Unit(m.axis);
+      spec.natural_frequency_hz = m.natural_frequency_hz;
+      spec.damping_ratio = m.damping_ratio;
+      spec.stiffness_n_per_m = m.stiffness_n_per_m;
+      const double omega = 2.0 * kPi * m.natural_frequency_hz;
+      spec.mass_kg = m.stiffness_n_per_m / (omega * omega);
+      job.modes.push_back(spec);
+    }
+  } catch (const std::invalid_argument& error) {
+    throw InputError("dynamics.postures", 0, error.what());
+  }
+}
+
 void read_dynamics(SectionReader& root, Job& job) {
   auto section = root.section("dynamics");
   if (!section)
     return;
   SectionReader& r = *section;
-  r.allow({"modes", "frf", "fit", "use", "from_robot"}, {"postures"},
-          "unknown key (not supported by this version of robomill)");
+  r.allow({"modes", "frf", "fit", "use", "from_robot", "postures", "at", "idw"});
+  if (r.has("postures")) {
+    read_posture_library(r, job);
+    return;
+  }
+  for (const char* key : {"at", "idw"}) {
+    if (r.has(key))
+      r.fail(key, "applies to dynamics.postures (modal tables measured at several postures)");
+  }
   if (auto items = r.sections("modes")) {
     if (items->empty())
       r.fail("modes", "must list at least one mode");
@@ -1721,10 +1858,11 @@ Job read_job(const YAML::Node& root_node, const std::filesystem::path& source,
   job.process = read_process(root, job.tool);
   job.forces = read_forces(root, job.tool);
   read_dynamics(root, job);
-  job.stability = read_stability(root, job.tool, job.modes, job.dynamics_source);
-  job.experiments = read_experiments(root);
   if (auto robot = root.section("robot"))
     job.robot = read_robot_section(*robot, source);
+  resolve_posture_library(job);
+  job.stability = read_stability(root, job.tool, job.modes, job.dynamics_source);
+  job.experiments = read_experiments(root);
   detail::read_planning(root, job);  // workpiece, path, optimize (job_parser_planning.cpp)
   job.output = read_output(root);
   root.finish();

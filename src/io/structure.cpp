@@ -87,6 +87,7 @@ StructureFit fit_structure(const Job& job, const std::vector<dynamics::Frf>& mea
 dynamics::ModalModel structure_modes(const Job& job) {
   switch (job.dynamics_source) {
     case Job::DynamicsSource::table:
+    case Job::DynamicsSource::postures:  // interpolated into job.modes by the parser
       return modal_model(job);
     case Job::DynamicsSource::fit:
       return fit_structure(job, load_measured_frfs(job)).modes;

@@ -14,6 +14,7 @@
 #include "robomill/dynamics/frf.hpp"
 #include "robomill/dynamics/modal_model.hpp"
 #include "robomill/planning/pose_optimization.hpp"
+#include "robomill/robot/posture_interpolation.hpp"
 #include "robomill/robot/robot_description.hpp"
 #include "robomill/tool/tool.hpp"
 
@@ -64,6 +65,20 @@ struct FitSettings {
   };
   std::vector<Band> bands;  ///< empty: automatic band selection
   int max_order = 0;        ///< 0: the fit's default
+};
+
+/// `dynamics.postures`: modal tables measured at several postures of the
+/// robot (hammer tests at the tool tip, 001 §3.1), interpolated in joint
+/// space by inverse-distance weighting (001 Eq 16-18) at the posture the
+/// analyses run at (`dynamics.at`, else `robot.posture`).
+struct PostureLibrary {
+  std::vector<Eigen::VectorXd> postures_rad;  ///< one per measured posture
+  std::vector<std::vector<ModeSpec>> tables;  ///< the modes measured there
+  robot::IdwOptions idw;                      ///< `dynamics.idw: {power, joint_weights}`
+  Eigen::VectorXd query_rad;                  ///< where the table is interpolated
+  std::string query_source;                   ///< "dynamics.at" or "robot.posture"
+  Eigen::VectorXd weights;                    ///< α_i at the query (001 Eq 18)
+  int exact_index = -1;                       ///< a measured posture hit exactly, or −1
 };
 
 /// `robot:` — the robot's description and what `robomill robot` computes.
@@ -159,7 +174,16 @@ struct Job {
   /// the measured FRFs themselves.
   /// `robot`: the robot model's tool-tip modes at robot.posture
   /// (`dynamics.from_robot: true`).
-  enum class DynamicsSource { table, fit, frf, robot } dynamics_source = DynamicsSource::table;
+  /// `postures`: the modal table interpolated over `dynamics.postures`
+  /// (001 Eq 16-18), stored in `modes` at parse time.
+  enum class DynamicsSource {
+    table,
+    fit,
+    frf,
+    robot,
+    postures
+  } dynamics_source = DynamicsSource::table;
+  std::optional<PostureLibrary> posture_library;  ///< `dynamics.postures`
   std::vector<Experiment> experiments;
   std::optional<RobotSettings> robot;          ///< `robot:`
   std::optional<WorkpieceSettings> workpiece;  ///< `workpiece:`
@@ -198,6 +222,9 @@ Job parse_job(std::string_view yaml_text, const std::filesystem::path& source_na
 /// The job's `dynamics.modes` as a modal model (each mode along its axis with
 /// its modal stiffness). Throws InputError naming `dynamics.modes` when empty.
 dynamics::ModalModel modal_model(const Job& job);
+
+/// "table", "fit", "frf", "robot" or "postures" (summary.json's `dynamics`).
+const char* dynamics_source_name(Job::DynamicsSource source);
 
 /// Sections a command needs; throws InputError naming the first missing one.
 enum class Section { tool, cutting, process, modes, stability, robot };
