@@ -12,14 +12,14 @@ KQ=(6.082e6 6.816e6 3.842e6 2.926e6 1.635e6 2.479e6)   # 000 §6.1, the job's ro
 ratios() { grep '"ratio_to_job"' "$1" | sed 's/.*: *//; s/,//'; }
 standard_errors() { grep '"relative_standard_error"' "$1" | sed 's/.*: *//; s/,//'; }
 
-# The committed example (192 tests, 1 % displacement noise, seed 7).
+# The committed example (384 tests, 1 % displacement noise, seed 7).
 "$ROBOMILL" identify-stiffness "$TESTS" --job "$JOB" --out "$WORK/id" --quiet || fail "exit code"
 for f in summary.json fit.csv joint_stiffness.yaml; do
   [ -s "$WORK/id/$f" ] || fail "did not write $f"
 done
 [ "$(head -1 "$WORK/id/fit.csv")" = "test,dx_mm,dy_mm,dz_mm,model_dx_mm,model_dy_mm,model_dz_mm,residual_um" ] \
   || fail "fit.csv header"
-[ $(($(wc -l < "$WORK/id/fit.csv") - 1)) -eq 192 ] || fail "fit.csv should have 192 rows"
+[ $(($(wc -l < "$WORK/id/fit.csv") - 1)) -eq 384 ] || fail "fit.csv should have 384 rows"
 grep -q '^joint_stiffness: \[' "$WORK/id/joint_stiffness.yaml" || fail "snippet lacks joint_stiffness"
 # Each joint within 2 % of the truth (the issue's criterion) and within three
 # of its own standard errors (the reported uncertainty is honest).

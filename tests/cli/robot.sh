@@ -34,6 +34,20 @@ grep -q '"mode_count": 3' "$WORK/s/summary.json" || fail "stability from_robot: 
 expect_exit2 "robot.posture" stability "$JOB" --set dynamics.from_robot=true --set "$STAB" \
   --set 'robot.posture=null'
 
+# The KR270-class robot as a DH table (003's example) and as a URDF file
+# (002's example, examples/robots/kr270_r2900.urdf): one robot, so the same
+# modes (frequencies and |tip shapes|) to 1e-9 relative.
+"$ROBOMILL" robot "$SOURCE/examples/003_kr270_process_damping.yaml" \
+  --out "$WORK/dh" --quiet || fail "KR270 DH exit code"
+"$ROBOMILL" robot "$SOURCE/examples/002_kr270_fractional_law.yaml" --out "$WORK/urdf" --quiet \
+  || fail "KR270 URDF exit code"
+paste -d, "$WORK/dh/modes.csv" "$WORK/urdf/modes.csv" | awk -F, 'NR > 1 {
+    for (c = 2; c <= 6; c++) { if (c == 3) continue
+      a = $c; b = $(c + 6); if (a < 0) a = -a; if (b < 0) b = -b
+      d = a - b; if (d < 0) d = -d; if (d > 1e-9 * (a > 0.01 ? a : 0.01)) bad = 1 } }
+    END { if (NR != 7) bad = 1; exit bad }' \
+  || fail "KR270: the URDF file and the DH table give different modes"
+
 expect_exit2 "robot.posture[2]" robot "$JOB" --set 'robot.posture=[0, 45, -80]'
 expect_exit2 "robot.joint_stiffness[1]" robot "$JOB" --set 'robot.joint_stiffness=[2.4e5, -5, 1e5]'
 expect_exit2 "robot.joints[2].upper" robot "$JOB" --set 'robot.joints[2].upper=-70'
