@@ -20,6 +20,7 @@
 #include "robomill/io/summary.hpp"
 #include "robomill/robot/joint_dynamics.hpp"
 #include "robomill/robot/kinematics.hpp"
+#include "robomill/robot/reduced_model.hpp"
 #include "robomill/robot/stiffness.hpp"
 
 namespace robomill::app {
@@ -195,6 +196,34 @@ int run_robot(const JobCommandOptions& options) {
                            {"m_kg", m.mass_kg}});
   }
 
+  // 002 §2 (Eq 8-23): the reduced tip model, 6-D where the compliance is
+  // invertible (six joints away from singularities), else translational 3-D;
+  // its frequencies against the full joint-space eigenproblem.
+  nlohmann::json reduced;
+  if (modes) {
+    const Eigen::MatrixXd m = robot::mass_matrix(model, q);
+    const Eigen::VectorXd kq = model.joint_stiffness();
+    for (const int dimension : {6, 3}) {
+      if (dimension == 6 && model.dof() < 6)
+        continue;
+      try {
+        const Eigen::MatrixXd j =
+            dimension == 6 ? Eigen::MatrixXd(jacobian) : robot::linear_jacobian(jacobian);
+        const robot::ReducedModel r = robot::reduce_model(j, kq, m);
+        const robot::FrequencyComparison c = robot::compare_with_full_model(r, kq, m);
+        reduced = {{"dimension", dimension},
+                   {"mass", matrix_json(r.mass)},
+                   {"stiffness", matrix_json(r.stiffness)},
+                   {"natural_frequencies_hz", vector_json(c.reduced_hz)},
+                   {"full_natural_frequencies_hz", vector_json(c.full_hz)},
+                   {"relative_difference", vector_json(c.relative_difference)}};
+        break;
+      } catch (const std::invalid_argument& e) {
+        reduced = {{"note", e.what()}};
+      }
+    }
+  }
+
   std::optional<std::vector<MapPoint>> map;
   if (settings.map)
     map = workspace_map(model, *settings.map, q, has_mass, options.threads);
@@ -220,6 +249,7 @@ int run_robot(const JobCommandOptions& options) {
     summary["natural_frequencies_hz"] = vector_json(modes->natural_frequencies_hz);
     summary["damping_ratios"] = vector_json(modes->damping_ratios);
     summary["frf"] = {{"from_hz", from_hz}, {"to_hz", to_hz}, {"points", settings.frf_points}};
+    summary["reduced_model"] = reduced;
   } else {
     summary["natural_frequencies_hz"] = nlohmann::json::array();
     summary["dynamics_note"] = "no link masses (robot.links): statics only";

@@ -9,7 +9,7 @@ for f in summary.json frf.csv modes.csv map.csv; do
   [ -s "$WORK/r/$f" ] || fail "robot did not write $f"
 done
 for key in posture_deg tool_position_mm jacobian compliance natural_frequencies_hz \
-  modal_table_tool_frame principal_stiffness; do
+  modal_table_tool_frame principal_stiffness reduced_model full_natural_frequencies_hz; do
   grep -q "\"$key\"" "$WORK/r/summary.json" || fail "summary.json lacks $key"
 done
 [ "$(head -1 "$WORK/r/frf.csv" | cut -d, -f1-3)" = "freq_hz,hxx_re,hxx_im" ] || fail "frf.csv header"
