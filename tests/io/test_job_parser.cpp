@@ -358,7 +358,8 @@ TEST(JobValidation, UnknownKeys) {
   expect_error("simulation:\n  duration: 1 s\n", "simulation", 1,
                "section not supported by this version of robomill");
   expect_error("robot:\n  dh: []\n", "robot.dh", 2, "one row {a, alpha, d, theta} per joint");
-  expect_error("dynamics:\n  postures: []\n", "dynamics.postures", 2, "not supported");
+  expect_error("dynamics:\n  postures: []\n", "dynamics.postures", 2,
+               "must list at least one measured posture");
   expect_error("cutting:\n  law: linear\n  Ktc: 800\n  kF: 3\n", "cutting.kF", 4,
                "unknown key for law 'linear'; expected one of: law, Ktc");
   expect_error(std::string(kTool) + "  runout: {offset: 0, phase: 3}\n", "tool.runout.phase", 4,
