@@ -15,6 +15,7 @@
 #include "robomill/dynamics/measured_receptance.hpp"
 #include "robomill/dynamics/modal_model.hpp"
 #include "robomill/io/csv.hpp"
+#include "robomill/io/deformation.hpp"
 #include "robomill/io/output_bundle.hpp"
 #include "robomill/io/structure.hpp"
 #include "robomill/io/summary.hpp"
@@ -265,6 +266,59 @@ nlohmann::json diagram_summary(const std::vector<Limit>& limits) {
           {"speeds_period_doubling", flips}};
 }
 
+/// 000 Figures 12-13: the diagram without and with process damping and
+/// with and without the deformation-corrected engagement, all on the
+/// multipoint model (the modes' shapes along the tool).
+struct Variant {
+  const char* name;  ///< column suffix: "", "process_damping", "deformation", "both"
+  bool process_damping, deformation;
+  std::vector<Limit> limits;
+};
+
+std::vector<Variant> deformation_variants(const io::Job& job, const dynamics::ModalModel& modes,
+                                          const stability::LobeOptions& lobe_options,
+                                          const std::vector<double>& speeds, int threads,
+                                          nlohmann::json& report) {
+  const Settings& settings = *job.stability;
+  const deflection::DeflectionSetup setup = io::deflection_setup(job);
+  const deflection::DeformedEngagement engagement(setup, settings.depth_max_m,
+                                                  job.deflection->table_depths, threads);
+  const std::vector<dynamics::AxialShape> shapes = io::mode_shapes_along_tool(job);
+  const bool damping = lobe_options.process_damping.has_value();
+  std::vector<Variant> variants = {{"", false, false, {}}};
+  if (damping)
+    variants.push_back({"process_damping", true, false, {}});
+  variants.push_back({"deformation", false, true, {}});
+  if (damping)
+    variants.push_back({"both", true, true, {}});
+  for (Variant& v : variants) {
+    stability::MultipointStructure structure;
+    structure.mode_shapes = shapes;
+    if (v.deformation) {
+      structure.entry_angle_rad = [&engagement](double depth_m, double height_m) {
+        return engagement.entry_angle_rad(depth_m, height_m);
+      };
+    }
+    const stability::RegenerativeModel model(tool::Tool(*job.tool), *job.cutting, *job.process,
+                                             modes, structure);
+    stability::LobeOptions o = lobe_options;
+    if (!v.process_damping)
+      o.process_damping.reset();
+    v.limits = floquet_diagram(model, o, speeds);
+  }
+  // How far the deformed engagement moved: the entry angle at the tip and at
+  // the top of the flute for the deepest tabulated depth.
+  const double deepest = engagement.depths_m().back();
+  report = {{"robot_included", static_cast<bool>(setup.robot)},
+            {"mode_shapes_along_tool", !shapes.empty()},
+            {"table_depths", engagement.depths_m().size()},
+            {"nominal_entry_deg", engagement.nominal_entry_rad() * 180.0 / std::numbers::pi},
+            {"entry_at_depth_max_deg",
+             {{"tip", engagement.entry_angle_rad(deepest, 0.0) * 180.0 / std::numbers::pi},
+              {"top", engagement.entry_angle_rad(deepest, deepest) * 180.0 / std::numbers::pi}}}};
+  return variants;
+}
+
 }  // namespace
 
 int run_stability(const JobCommandOptions& options) {
@@ -308,6 +362,8 @@ int run_stability(const JobCommandOptions& options) {
   const bool want_coupled = settings.modes != Settings::Modes::envelope;
   const bool want_envelope = settings.modes != Settings::Modes::coupled;
   std::vector<Limit> coupled, envelope;
+  std::vector<Variant> variants;  // stability.deformation: 000's four diagrams
+  nlohmann::json deformation;
   std::optional<stability::StabilityMap> map;
   if (measured) {
     coupled = measured_frf_diagram(job, speeds);
@@ -318,9 +374,22 @@ int run_stability(const JobCommandOptions& options) {
       coupled = zero_order_diagram(model, settings, speeds, false, options.threads);
     if (want_envelope)
       envelope = zero_order_diagram(model, settings, speeds, true, options.threads);
+  } else if (settings.deformation) {
+    if (settings.modes != Settings::Modes::coupled || settings.mode == Settings::Mode::map) {
+      throw InputError("stability.deformation", 0,
+                       "gives the coupled boundary diagrams of 000 (modes: coupled, mode: "
+                       "boundary)");
+    }
+    variants =
+        deformation_variants(job, *modes, lobe_options, speeds, options.threads, deformation);
+    coupled = variants.front().limits;
   } else {
+    // The time-domain methods take the modes' measured shapes along the tool
+    // (000 Eq 35) when the table gives them: the multipoint model.
+    stability::MultipointStructure structure;
+    structure.mode_shapes = io::mode_shapes_along_tool(job);
     const stability::RegenerativeModel model(tool::Tool(*job.tool), *job.cutting, *job.process,
-                                             *modes);
+                                             *modes, structure);
     if (want_coupled)
       coupled = floquet_diagram(model, lobe_options, speeds);
     if (want_envelope)
@@ -379,6 +448,28 @@ int run_stability(const JobCommandOptions& options) {
     summary["envelope"] = diagram_summary(envelope);
     summary["envelope"]["experiments"] = experiment_check(job, &*modes, envelope);
   }
+  if (!variants.empty()) {
+    // 000 Figures 12-13: each variant's figures and its expansion over the
+    // traditional diagram, speed by speed.
+    nlohmann::json list = nlohmann::json::object();
+    for (const Variant& v : variants) {
+      nlohmann::json entry = diagram_summary(v.limits);
+      double max_gain = -INFINITY, max_gain_rpm = 0.0;
+      for (std::size_t i = 0; i < v.limits.size(); ++i) {
+        const double gain = v.limits[i].depth_limit_m / coupled[i].depth_limit_m - 1.0;
+        if (gain > max_gain) {
+          max_gain = gain;
+          max_gain_rpm = v.limits[i].spindle_rad_s * kRpmPerRadS;
+        }
+      }
+      entry["max_expansion_pct"] = 100.0 * max_gain;
+      entry["max_expansion_spindle_rpm"] = max_gain_rpm;
+      entry["experiments"] = experiment_check(job, &*modes, v.limits);
+      list[*v.name ? v.name : "traditional"] = entry;
+    }
+    deformation["variants"] = list;
+    summary["deformation"] = deformation;
+  }
   if (map) {
     summary["map"] = {{"speeds", map->spindle_rad_s.size()},
                       {"depths", map->depth_m.size()},
@@ -391,7 +482,30 @@ int run_stability(const JobCommandOptions& options) {
   const std::filesystem::path out = output_dir(options, job, "stability");
   io::OutputBundle bundle(out);
   if (job.output.csv) {
-    bundle.add("sld.csv", limit_table(primary, !want_coupled).to_string());
+    if (variants.empty()) {
+      bundle.add("sld.csv", limit_table(primary, !want_coupled).to_string());
+    } else {
+      // One limit and chatter-frequency column per variant next to the
+      // traditional diagram's (DESIGN.md's columns).
+      std::vector<std::string> columns = {"spindle_rpm", "depth_limit_mm", "chatter_freq_hz",
+                                          "bifurcation"};
+      for (std::size_t v = 1; v < variants.size(); ++v) {
+        columns.push_back(fmt::format("depth_limit_{}_mm", variants[v].name));
+        columns.push_back(fmt::format("chatter_freq_{}_hz", variants[v].name));
+      }
+      io::CsvTable table(columns);
+      for (std::size_t i = 0; i < primary.size(); ++i) {
+        const Limit& l = primary[i];
+        std::vector<io::CsvTable::Cell> row = {l.spindle_rad_s * kRpmPerRadS, l.depth_limit_m * 1e3,
+                                               l.chatter_frequency_hz, l.bifurcation};
+        for (std::size_t v = 1; v < variants.size(); ++v) {
+          row.emplace_back(variants[v].limits[i].depth_limit_m * 1e3);
+          row.emplace_back(variants[v].limits[i].chatter_frequency_hz);
+        }
+        table.add_cells(row);
+      }
+      bundle.add("sld.csv", table.to_string());
+    }
     if (want_coupled && want_envelope) {
       bundle.add("sld_envelope.csv", limit_table(envelope, true).to_string());
     }

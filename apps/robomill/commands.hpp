@@ -33,6 +33,7 @@ int run_forces(const JobCommandOptions& options);
 int run_stability(const JobCommandOptions& options);
 int run_fit_modes(const JobCommandOptions& options);
 int run_robot(const JobCommandOptions& options);
+int run_deflection(const JobCommandOptions& options);
 int run_optimize(const JobCommandOptions& options);
 
 struct IdentifyOptions {

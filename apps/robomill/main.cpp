@@ -68,6 +68,13 @@ int main(int argc, char** argv) {
       "stabilization.csv, modes.yaml, summary.json",
       fit_options);
 
+  robomill::app::JobCommandOptions deflection_options;
+  CLI::App* deflection_command = add_job_command(
+      app, "deflection",
+      "force-induced deformation of tool and robot and the actual contact boundary (000 §2, §4) "
+      "over a sweep of axial depths → deflection.csv, summary.json",
+      deflection_options);
+
   robomill::app::JobCommandOptions robot_options;
   CLI::App* robot = add_job_command(
       app, "robot",
@@ -173,6 +180,8 @@ int main(int argc, char** argv) {
       return robomill::app::run_stability(stability_options);
     if (identify->parsed())
       return robomill::app::run_identify_cutting(identify_options);
+    if (deflection_command->parsed())
+      return robomill::app::run_deflection(deflection_options);
     if (robot->parsed())
       return robomill::app::run_robot(robot_options);
     if (fit->parsed())

@@ -26,6 +26,7 @@
 #include "robomill/io/units.hpp"
 #include "text.hpp"
 #include "yaml_reader.hpp"
+#include "job_parser_deflection.hpp"
 #include "job_parser_planning.hpp"
 
 namespace robomill::io {
@@ -1623,8 +1624,7 @@ std::optional<StabilitySettings> read_stability(SectionReader& root,
     return std::nullopt;
   SectionReader& r = *section;
   r.allow({"method", "mode", "modes", "speeds", "depth_max", "depths", "depth_tolerance",
-           "discretization", "continuation", "process_damping"},
-          {"deformation"}, "unknown key (not supported by this version of robomill)");
+           "discretization", "continuation", "process_damping", "deformation"});
   using Settings = StabilitySettings;
   Settings settings;
 
@@ -1688,6 +1688,13 @@ std::optional<StabilitySettings> read_stability(SectionReader& root,
       "depth_tolerance", dimensionless(kPositive, Bound{0.1, true}), settings.depth_tolerance);
   settings.discretization = r.integer_or("discretization", 4, 10000, settings.discretization);
   settings.continuation = r.boolean_or("continuation", settings.continuation);
+  // 000 §4-5: the diagrams with the deformation-corrected engagement too.
+  settings.deformation = r.boolean_or("deformation", false);
+  if (settings.deformation && settings.method == Settings::Method::zoa) {
+    r.fail("deformation",
+           "needs a time-domain method (sdm, fdm or fdm2): 000 solves its multipoint model by "
+           "full discretization");
+  }
 
   if (auto damping = r.section("process_damping")) {
     damping->allow({"model", "Ksp", "wear_land", "mu"});
@@ -1847,7 +1854,8 @@ Job read_job(const YAML::Node& root_node, const std::filesystem::path& source,
   const int root_line = provenance.line(root_node, "") > 0 ? provenance.line(root_node, "") : 1;
   SectionReader root(root_node, "", root_line, provenance);
   root.allow({"name", "tool", "cutting", "process", "forces", "dynamics", "stability",
-              "experiments", "robot", "output", "workpiece", "path", "optimize"},
+              "experiments", "robot", "output", "workpiece", "path", "optimize",
+              "deflection"},
              {"simulation", "surface"},
              "section not supported by this version of robomill");
   Job job;
@@ -1864,6 +1872,7 @@ Job read_job(const YAML::Node& root_node, const std::filesystem::path& source,
   job.stability = read_stability(root, job.tool, job.modes, job.dynamics_source);
   job.experiments = read_experiments(root);
   detail::read_planning(root, job);  // workpiece, path, optimize (job_parser_planning.cpp)
+  detail::read_deflection(root, job);  // 000 §2-4 (job_parser_deflection.cpp)
   job.output = read_output(root);
   root.finish();
   return job;

