@@ -89,6 +89,14 @@ int main(int argc, char** argv) {
       "+ local polish → summary.json, evaluations.csv, path.csv, landscape.csv",
       optimize_options);
 
+  robomill::app::JobCommandOptions simulate_options;
+  CLI::App* simulate = add_job_command(
+      app, "simulate",
+      "nonlinear regenerative time-domain simulation with material removal (002 §3): forces and "
+      "tool displacement, static deviation, overshoot, settling, first frequency, chatter → "
+      "timeseries.csv, spectrum.csv, summary.json",
+      simulate_options);
+
   robomill::app::IdentifyOptions identify_options;
   CLI::App* identify = app.add_subcommand(
       "identify-cutting",
@@ -188,6 +196,8 @@ int main(int argc, char** argv) {
       return robomill::app::run_fit_modes(fit_options);
     if (optimize->parsed())
       return robomill::app::run_optimize(optimize_options);
+    if (simulate->parsed())
+      return robomill::app::run_simulate(simulate_options);
     if (identify_stiffness->parsed())
       return robomill::app::run_identify_stiffness(stiffness_options);
     if (frf->parsed())

@@ -28,6 +28,7 @@
 #include "yaml_reader.hpp"
 #include "job_parser_deflection.hpp"
 #include "job_parser_planning.hpp"
+#include "job_parser_simulation.hpp"
 
 namespace robomill::io {
 namespace detail {
@@ -1855,8 +1856,8 @@ Job read_job(const YAML::Node& root_node, const std::filesystem::path& source,
   SectionReader root(root_node, "", root_line, provenance);
   root.allow({"name", "tool", "cutting", "process", "forces", "dynamics", "stability",
               "experiments", "robot", "output", "workpiece", "path", "optimize",
-              "deflection"},
-             {"simulation", "surface"},
+              "deflection", "simulation"},
+             {"surface"},
              "section not supported by this version of robomill");
   Job job;
   job.source = source;
@@ -1872,6 +1873,7 @@ Job read_job(const YAML::Node& root_node, const std::filesystem::path& source,
   job.stability = read_stability(root, job.tool, job.modes, job.dynamics_source);
   job.experiments = read_experiments(root);
   detail::read_planning(root, job);  // workpiece, path, optimize (job_parser_planning.cpp)
+  detail::read_simulation(root, job);  // simulation (job_parser_simulation.cpp)
   detail::read_deflection(root, job);  // 000 §2-4 (job_parser_deflection.cpp)
   job.output = read_output(root);
   root.finish();

@@ -170,6 +170,36 @@ struct DeflectionSettings {
   int table_depths = 48;  ///< depths the stability engine interpolates the engagement over
 };
 
+/// `simulation:` — the time-domain simulation of `robomill simulate`
+/// (002 §2.5-3.4; docs/simulation.md). SI units.
+struct SimulationSettings {
+  /// `model`: the structure moved by the cutting forces.
+  ///  modes: the job's modal model (dynamics:, whatever its source);
+  ///  rigid: 002 Case A; fixation: 002 Eq 32 (1dof, x), Eq 33 (2dof, x y),
+  ///  3dof (x y z) with `fixation: {mass, stiffness, damping | damping_ratio}`;
+  ///  reduced6d: the robot's reduced model Mr, Kr (002 Eq 23) at robot.posture.
+  enum class Model { modes, rigid, fixation, reduced6d };
+  Model model = Model::modes;
+  std::string model_name = "modes";
+  Eigen::MatrixXd mass_kg, damping_n_s_per_m, stiffness_n_per_m;  ///< fixation (n×n)
+  double damping_ratio = 0.0;  ///< reduced6d: ζ of modes the robot leaves undamped
+  double duration_s = 0.0;     ///< `duration`, or `revolutions` converted
+  std::string duration_key = "duration";  ///< the key the user gave it by
+  int steps_per_tooth = 40;
+  int axial_elements = 0;  ///< 0: as `forces` (helix lag ≤ 0.5° per element)
+  /// `workpiece.border`: gap between the cutter's leading edge and the part's
+  /// straight border at t = 0 (0: touching, 002's t = 0); none: in the cut.
+  std::optional<double> border_gap_m;
+  double steady_window_s = 0.0;  ///< `steady_revolutions` (default: the last 20 % of the run)
+  double start_angle_rad = 0.0;  ///< `start_angle`: tooth 1's angle at t = 0
+  int record_every = 1;          ///< `record_every`: rows of timeseries.csv per step
+  /// `process_damping: {Ksp, wear_land, mu}` (000 Eq 18-19).
+  bool process_damping = false;
+  double indentation_n_per_m3 = 0.0, wear_land_m = 0.0, friction = 0.0;
+  /// Lines of the fields the command checks against the structure (0: absent).
+  int line = 0, steps_line = 0, duration_line = 0, border_line = 0;
+};
+
 struct OutputSettings {
   std::string dir;  ///< empty: the command's default (out/<command>)
   bool csv = true, json = true, html = true;
@@ -207,6 +237,7 @@ struct Job {
   std::vector<planning::PathPoint> path;       ///< `path:` (workpiece frame)
   std::optional<DeflectionSettings> deflection;  ///< `deflection:` (000 §2, §4)
   std::optional<OptimizeSettings> optimize;    ///< `optimize:`
+  std::optional<SimulationSettings> simulation;  ///< `simulation:`
   OutputSettings output;
 
   /// Resolves a path written in the job relative to the job file's folder.

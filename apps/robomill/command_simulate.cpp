@@ -1,0 +1,329 @@
+// robomill simulate JOB: the nonlinear, regenerative time-domain simulation
+// of 002 §3 (docs/simulation.md). The structure (modal model, 002's 1/2-DOF
+// fixations, the reduced 6-D robot model, or rigid) is driven by the cutting
+// forces of the teeth, whose chips come from the swept-surface memory; the
+// response gives the static deviation, overshoot, settling time, first
+// frequency and the chatter verdict → timeseries.csv, spectrum.csv,
+// summary.json.
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <numbers>
+
+#include "commands.hpp"
+#include "robomill/core/error.hpp"
+#include "robomill/cutting/engagement.hpp"
+#include "robomill/cutting/milling_forces.hpp"
+#include "robomill/io/csv.hpp"
+#include "robomill/io/output_bundle.hpp"
+#include "robomill/io/structure.hpp"
+#include "robomill/io/summary.hpp"
+#include "robomill/robot/joint_dynamics.hpp"
+#include "robomill/robot/kinematics.hpp"
+#include "robomill/robot/reduced_model.hpp"
+#include "robomill/simulation/response_metrics.hpp"
+#include "robomill/simulation/simulator.hpp"
+#include "robomill/simulation/spectrum.hpp"
+
+namespace robomill::app {
+namespace {
+
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+
+/// 002 Eq 23 through its modal decomposition: the reduced model's
+/// mass-normalized modes (Mr, Kr, Dr at robot.posture), their translational
+/// part rotated into the tool frame, ζ from the robot's joint damping or
+/// simulation.damping_ratio where the robot has none.
+dynamics::ModalModel reduced_modes(const io::Job& job, const io::SimulationSettings& s) {
+  if (job.robot->posture_rad.empty())
+    throw InputError("robot.posture", 0, "required with simulation.model: reduced6d");
+  try {
+    const robot::RobotModel model(job.robot->description);
+    const Eigen::VectorXd q = Eigen::Map<const Eigen::VectorXd>(
+        job.robot->posture_rad.data(), static_cast<Eigen::Index>(job.robot->posture_rad.size()));
+    const Eigen::MatrixXd jacobian = robot::tool_jacobian(model, q);
+    Eigen::MatrixXd joint_damping;
+    try {
+      joint_damping = robot::joint_damping_matrix(model, q);
+    } catch (const std::invalid_argument&) {
+      joint_damping.resize(0, 0);
+    }
+    const robot::ReducedModel reduced = robot::reduce_model(
+        jacobian, model.joint_stiffness(), robot::mass_matrix(model, q), joint_damping);
+    const Eigen::Matrix3d to_tool = robot::tool_pose(model, q).linear().transpose();
+    std::vector<dynamics::Mode> modes;
+    double largest = 0.0;
+    for (Eigen::Index i = 0; i < reduced.mode_shapes.cols(); ++i)
+      largest = std::max(largest, reduced.mode_shapes.col(i).head<3>().norm());
+    for (Eigen::Index i = 0; i < reduced.mode_shapes.cols(); ++i) {
+      const Eigen::Vector3d shape = to_tool * reduced.mode_shapes.col(i).head<3>();
+      if (!(shape.norm() > 1e-9 * largest))
+        continue;  // a pure rotation of the tip: the force does not drive it
+      double zeta = reduced.damping_ratios.size() > i ? reduced.damping_ratios(i) : 0.0;
+      if (!(zeta > 0.0 && zeta < 1.0)) {
+        if (!(s.damping_ratio > 0.0))
+          throw InputError("simulation.damping_ratio", s.line,
+                           "required with model reduced6d: the robot has no joint damping, so "
+                           "give the modal damping ratio of the reduced modes (e.g. 0.05)");
+        zeta = s.damping_ratio;
+      }
+      modes.push_back({reduced.natural_frequencies_hz(i), zeta, shape});
+    }
+    return dynamics::ModalModel(std::move(modes));
+  } catch (const std::invalid_argument& error) {
+    throw InputError("robot", 0, error.what());
+  }
+}
+
+simulation::LinearStructure structure_of(const io::Job& job, const io::SimulationSettings& s) {
+  switch (s.model) {
+    case io::SimulationSettings::Model::rigid:
+      return simulation::rigid_structure();
+    case io::SimulationSettings::Model::fixation:
+      return simulation::fixation_structure(s.mass_kg, s.damping_n_s_per_m, s.stiffness_n_per_m);
+    case io::SimulationSettings::Model::reduced6d: {
+      simulation::LinearStructure structure = simulation::modal_structure(reduced_modes(job, s));
+      structure.description = "reduced 6-D robot model (002 Eq 23), " + structure.description;
+      return structure;
+    }
+    case io::SimulationSettings::Model::modes:
+      break;
+  }
+  return simulation::modal_structure(io::structure_modes(job));
+}
+
+std::string field_of(const std::string& key) {
+  return "simulation." + key;
+}
+
+/// The checks that need the structure: a step fine enough for the highest
+/// mode and the engaged arc, a part the cutter reaches, a run long enough for
+/// the metrics. Each names the field and the value that would work.
+void check_settings(const io::Job& job, const io::SimulationSettings& s,
+                    const simulation::LinearStructure& structure, const tool::Tool& cutter) {
+  const cutting::MillingProcess& process = *job.process;
+  const int teeth = cutter.teeth();
+  const double tooth_period_s = kTwoPi / (process.spindle_rad_s * teeth);
+  const Eigen::VectorXd frequencies = simulation::natural_frequencies_hz(structure);
+  // At least 8 steps per period of the highest mode: the force is linearly
+  // interpolated over a step, and the mode must see it resolved.
+  int needed = 8;
+  std::string why = "8 steps per tooth period";
+  if (frequencies.size() > 0) {
+    const double highest_hz = frequencies.maxCoeff();
+    const int for_mode = static_cast<int>(std::ceil(8.0 * highest_hz * tooth_period_s));
+    if (for_mode > needed) {
+      needed = for_mode;
+      why = fmt::format("8 steps per period of the highest mode ({:.4g} Hz)", highest_hz);
+    }
+  }
+  // At least 5 steps across the engaged arc (the chip's entry and exit).
+  const cutting::Engagement arc = cutting::radial_engagement(
+      cutter.radius_m(), cutter.radius_m(), process.radial_depth_m, process.direction);
+  const int for_arc = static_cast<int>(
+      std::ceil(5.0 * (kTwoPi / teeth) / std::max(arc.exit_rad - arc.entry_rad, 1e-9)));
+  if (for_arc > needed) {
+    needed = for_arc;
+    why = fmt::format("5 steps across the engaged arc of {:.1f} deg",
+                      (arc.exit_rad - arc.entry_rad) * 180.0 / std::numbers::pi);
+  }
+  if (s.steps_per_tooth < needed)
+    throw InputError(
+        field_of("steps_per_tooth"), s.steps_line ? s.steps_line : s.line,
+        fmt::format("{} steps per tooth period (step {:.3g} s) is too coarse: {} "
+                    "needs steps_per_tooth: {} or more",
+                    s.steps_per_tooth, tooth_period_s / s.steps_per_tooth, why, needed));
+
+  const double feed_speed = process.feed_per_tooth_m / tooth_period_s;
+  const double travel = feed_speed * s.duration_s;
+  double engaged_s = 0.0;
+  if (s.border_gap_m) {
+    if (*s.border_gap_m >= travel)
+      throw InputError(
+          "simulation.workpiece.border", s.border_line,
+          fmt::format("the cutter never reaches the part: it travels {:.4g} mm in {:.4g} s at "
+                      "{:.4g} mm/min, less than the {:.4g} mm gap; use a border below {:.4g} mm "
+                      "or a duration above {:.4g} s",
+                      travel * 1e3, s.duration_s, feed_speed * 6e4, *s.border_gap_m * 1e3,
+                      travel * 1e3, *s.border_gap_m / feed_speed));
+    engaged_s = (*s.border_gap_m + cutter.radius_m()) / feed_speed;
+  }
+  // The metrics: the steady window after full engagement, and at least three
+  // periods of the lowest mode after it for the first frequency.
+  double needed_s = engaged_s + s.steady_window_s;
+  std::string what = fmt::format("full engagement at {:.4g} s plus the steady window of {:.4g} s",
+                                 engaged_s, s.steady_window_s);
+  if (frequencies.size() > 0 && frequencies.minCoeff() > 0.0) {
+    const double for_frequency = engaged_s + 3.0 / frequencies.minCoeff();
+    if (for_frequency > needed_s) {
+      needed_s = for_frequency;
+      what = fmt::format(
+          "full engagement at {:.4g} s plus three periods of the lowest mode "
+          "({:.4g} Hz)",
+          engaged_s, frequencies.minCoeff());
+    }
+  }
+  if (s.duration_s < needed_s * (1.0 - 1e-9))
+    throw InputError(
+        field_of(s.duration_key), s.duration_line ? s.duration_line : s.line,
+        fmt::format("a run of {:.4g} s is too short for the metrics ({}): needs "
+                    "duration: {:.4g} s ({} revolutions) or more",
+                    s.duration_s, what, needed_s,
+                    static_cast<long long>(std::ceil(needed_s * process.spindle_rad_s / kTwoPi))));
+}
+
+nlohmann::json per_axis(const simulation::ResponseMetrics& m, double scale,
+                        double simulation::DirectionResponse::*member, bool zero_is_null) {
+  nlohmann::json out;
+  for (int a = 0; a < 3; ++a) {
+    const double v = m.direction[a].*member;
+    if (zero_is_null && v == 0.0)
+      out[std::string(1, "xyz"[a])] = nullptr;
+    else
+      out[std::string(1, "xyz"[a])] = v * scale;
+  }
+  return out;
+}
+
+}  // namespace
+
+int run_simulate(const JobCommandOptions& options) {
+  const io::Job job = load(options);
+  io::require(job, {io::Section::tool, io::Section::cutting, io::Section::process});
+  if (!job.simulation)
+    throw InputError("simulation", 0,
+                     "required: the simulation: section (duration or revolutions, steps_per_tooth, "
+                     "model)");
+  const io::SimulationSettings& s = *job.simulation;
+  const auto start = std::chrono::steady_clock::now();
+  const tool::Tool cutter(*job.tool);
+  const simulation::LinearStructure structure = structure_of(job, s);
+  check_settings(job, s, structure, cutter);
+
+  simulation::SimulationOptions run;
+  run.duration_s = s.duration_s;
+  run.steps_per_tooth = s.steps_per_tooth;
+  run.axial_elements = s.axial_elements > 0
+                           ? s.axial_elements
+                           : cutting::default_axial_elements(cutter, job.process->axial_depth_m);
+  run.start_angle_rad = s.start_angle_rad;
+  run.record_every = s.record_every;
+  if (s.process_damping)
+    run.process_damping =
+        stability::LinearProcessDamping{s.indentation_n_per_m3, s.wear_land_m, s.friction};
+  simulation::Workpiece part;
+  if (s.border_gap_m)
+    part.border_x_m = cutter.radius_m() + *s.border_gap_m;
+  const simulation::SimulationResult result =
+      simulation::simulate(cutter, *job.cutting, *job.process, structure, part, run);
+
+  simulation::ResponseOptions analysis;
+  analysis.spindle_rad_s = job.process->spindle_rad_s;
+  analysis.teeth = cutter.teeth();
+  analysis.runout = cutter.runout().offset_m > 0.0;
+  analysis.steady_window_s = s.steady_window_s;
+  const simulation::ResponseMetrics metrics = simulation::analyze_response(result, analysis);
+  const double elapsed_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  io::CsvTable series({"t_s", "fx_N", "fy_N", "fz_N", "x_mm", "y_mm", "z_mm", "teeth_cutting"});
+  for (std::size_t i = 0; i < result.size(); ++i) {
+    const Eigen::Vector3d& f = result.force_n[i];
+    const Eigen::Vector3d u = result.displacement_m[i] * 1e3;
+    series.add_row({result.time_s[i], f.x(), f.y(), f.z(), u.x(), u.y(), u.z(),
+                    static_cast<double>(result.teeth_cutting[i])});
+  }
+  // Spectrum of the steady window (amplitudes, Hann window).
+  const std::size_t from =
+      static_cast<std::size_t>(std::llround(metrics.steady_from_s / result.record_interval_s));
+  std::vector<simulation::AmplitudeSpectrum> spectra;
+  for (int channel = 0; channel < 6; ++channel) {
+    std::vector<double> samples;
+    for (std::size_t i = from; i + 1 < result.size(); ++i)
+      samples.push_back(channel < 3 ? result.force_n[i][channel]
+                                    : result.displacement_m[i][channel - 3] * 1e3);
+    spectra.push_back(simulation::amplitude_spectrum(samples, result.record_interval_s));
+  }
+  io::CsvTable spectrum({"frequency_hz", "fx_N", "fy_N", "fz_N", "x_mm", "y_mm", "z_mm"});
+  for (std::size_t k = 0; k < spectra[0].frequency_hz.size(); ++k) {
+    spectrum.add_row({spectra[0].frequency_hz[k], spectra[0].amplitude[k], spectra[1].amplitude[k],
+                      spectra[2].amplitude[k], spectra[3].amplitude[k], spectra[4].amplitude[k],
+                      spectra[5].amplitude[k]});
+  }
+
+  const auto& x = metrics.direction[0];
+  const Eigen::VectorXd frequencies = simulation::natural_frequencies_hz(structure);
+  int max_teeth = 0;
+  for (int n : result.teeth_cutting)
+    max_teeth = std::max(max_teeth, n);
+  nlohmann::json summary = {
+      {"command", "simulate"},
+      {"job", job.source.string()},
+      {"model", s.model_name},
+      {"structure", structure.description},
+      {"natural_frequencies_hz",
+       std::vector<double>(frequencies.data(), frequencies.data() + frequencies.size())},
+      {"duration_s", result.time_s.back()},
+      {"step_s", result.step_s},
+      {"steps", static_cast<long long>(std::llround(result.time_s.back() / result.step_s))},
+      {"axial_elements", run.axial_elements},
+      {"steady_window_s", result.time_s.back() - metrics.steady_from_s},
+      {"static_deviation_mm",
+       per_axis(metrics, 1e3, &simulation::DirectionResponse::static_deviation_m, false)},
+      {"overshoot_pct", x.overshoot_pct},
+      {"settling_time_s", x.settling_time_s},
+      {"first_frequency_hz",
+       per_axis(metrics, 1.0, &simulation::DirectionResponse::first_frequency_hz, true)},
+      {"peak_to_peak_mm",
+       per_axis(metrics, 1e3, &simulation::DirectionResponse::peak_to_peak_m, false)},
+      {"overshoot_pct_xyz",
+       per_axis(metrics, 1.0, &simulation::DirectionResponse::overshoot_pct, false)},
+      {"settling_time_s_xyz",
+       per_axis(metrics, 1.0, &simulation::DirectionResponse::settling_time_s, false)},
+      {"chatter", metrics.chatter.chatter},
+      {"chatter_freq_hz", metrics.chatter.chatter ? nlohmann::json(metrics.chatter.frequency_hz)
+                                                  : nlohmann::json(nullptr)},
+      {"chatter_evidence",
+       {{"nonharmonic_energy_fraction", metrics.chatter.nonharmonic_fraction},
+        {"once_per_period_spread", metrics.chatter.sample_spread},
+        {"largest_nonharmonic_hz", metrics.chatter.frequency_hz}}},
+      {"mean_force_N", io::xyz(metrics.mean_force_n)},
+      {"peak_force_N", io::xyz(metrics.peak_force_n)},
+      {"first_contact_s", result.first_contact_s},
+      {"full_engagement_s", result.full_engagement_s},
+      {"max_teeth_cutting", max_teeth},
+      {"element_evaluations", result.element_evaluations},
+      {"elapsed_s", elapsed_s}};
+
+  const std::filesystem::path out = output_dir(options, job, "simulate");
+  io::OutputBundle bundle(out);
+  if (job.output.csv) {
+    bundle.add("timeseries.csv", series.to_string());
+    bundle.add("spectrum.csv", spectrum.to_string());
+  }
+  if (job.output.json)
+    bundle.add("summary.json", io::summary_text(summary));
+  bundle.commit();
+
+  if (!options.quiet) {
+    std::cout << fmt::format(
+        "simulate: {} s of cutting on {} ({} steps of {:.3g} s) in {:.2f} s\n"
+        "  static deviation x {:.4f} mm, y {:.4f} mm; overshoot (x) {:.1f} %, settling (x) "
+        "{:.3f} s\n"
+        "  first frequency x {:.3g} Hz, y {:.3g} Hz; {}\n",
+        result.time_s.back(), structure.description, result.size() - 1, result.step_s, elapsed_s,
+        metrics.direction[0].static_deviation_m * 1e3,
+        metrics.direction[1].static_deviation_m * 1e3, x.overshoot_pct, x.settling_time_s,
+        metrics.direction[0].first_frequency_hz, metrics.direction[1].first_frequency_hz,
+        metrics.chatter.chatter ? fmt::format("CHATTER at {:.1f} Hz", metrics.chatter.frequency_hz)
+                                : std::string("stable"));
+    std::cout << "  wrote " << out.string() << '\n';
+  }
+  return 0;
+}
+
+}  // namespace robomill::app
