@@ -1,0 +1,114 @@
+// DESIGN.md §5's one-DOF benchmark in the time domain: simulations just
+// below and just above the full-discretization boundary (stability/lobes.hpp,
+// FDM, 40 steps per tooth period) are judged stable and chatter by
+// simulation/response_metrics.hpp, at three spindle speeds; and with the cut
+// stable the steady forces are those of cutting/milling_forces.hpp.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+
+#include "../stability/benchmark_1dof.hpp"
+#include "robomill/core/parallel.hpp"
+#include "robomill/cutting/milling_forces.hpp"
+#include "robomill/simulation/response_metrics.hpp"
+#include "robomill/simulation/simulator.hpp"
+
+namespace {
+
+using namespace robomill;
+constexpr double kPi = std::numbers::pi;
+// "Just" below and above: 5 % either side of the FDM limit.
+constexpr double kBelow = 0.95, kAbove = 1.05;
+
+struct Verdict {
+  simulation::ResponseMetrics metrics;
+  simulation::SimulationResult result;
+};
+
+/// The benchmark (a/D = 0.05, down milling, 2 teeth, 922 Hz) at `depth`,
+/// started in the steady cut with the structure at rest.
+Verdict simulate_benchmark(double spindle_rad_s, double depth_m, double tooth_periods) {
+  const stability::RegenerativeModel model = test::benchmark_1dof(0.05);
+  cutting::MillingProcess process = model.process();
+  process.spindle_rad_s = spindle_rad_s;
+  process.axial_depth_m = depth_m;
+  const auto structure = simulation::modal_structure(model.modes());
+  simulation::SimulationOptions options;
+  options.steps_per_tooth = 60;
+  options.duration_s = tooth_periods * 2.0 * kPi / (2.0 * spindle_rad_s);
+  Verdict v;
+  v.result = simulation::simulate(model.tool(), model.law(), process, structure,
+                                  simulation::Workpiece{}, options);
+  simulation::ResponseOptions analysis;
+  analysis.spindle_rad_s = spindle_rad_s;
+  analysis.teeth = 2;
+  analysis.steady_window_s = 0.25 * options.duration_s;
+  v.metrics = simulation::analyze_response(v.result, analysis);
+  return v;
+}
+
+TEST(BenchmarkChatter, JustBelowIsStableJustAboveChatters) {
+  const stability::RegenerativeModel model = test::benchmark_1dof(0.05);
+  const std::vector<double> speeds = {test::rpm(5000.0), test::rpm(7300.0), test::rpm(12000.0)};
+  stability::LobeOptions lobes;
+  lobes.depth_max_m = 10e-3;
+  lobes.depth_tolerance = 1e-4;
+  lobes.steps = 40;
+  const auto limits = stability::stability_boundary(model, speeds, lobes);
+  std::vector<Verdict> below(3), above(3);
+  core::parallel_for(6, 0, [&](std::size_t i) {
+    const std::size_t s = i / 2;
+    const double factor = i % 2 == 0 ? kBelow : kAbove;
+    (i % 2 == 0 ? below : above)[s] =
+        simulate_benchmark(speeds[s], factor * limits[s].depth_limit_m, 600.0);
+  });
+  for (std::size_t s = 0; s < 3; ++s) {
+    const auto& b = below[s].metrics.chatter;
+    const auto& a = above[s].metrics.chatter;
+    std::printf(
+        "[validation] benchmark a/D 0.05 at %.0f rpm: FDM limit %.4f mm (%s, %.1f Hz); %.2fx: "
+        "%s (non-harmonic %.3g, spread %.3g); %.2fx: %s at %.1f Hz (non-harmonic %.3g, "
+        "spread %.3g)\n",
+        speeds[s] * 30.0 / kPi, limits[s].depth_limit_m * 1e3, limits[s].bifurcation.c_str(),
+        limits[s].chatter_frequency_hz, kBelow, b.chatter ? "chatter" : "stable",
+        b.nonharmonic_fraction, b.sample_spread, kAbove, a.chatter ? "chatter" : "stable",
+        a.frequency_hz, a.nonharmonic_fraction, a.sample_spread);
+    EXPECT_FALSE(b.chatter) << s;
+    EXPECT_TRUE(a.chatter) << s;
+  }
+}
+
+}  // namespace
+
+namespace {
+
+// With the cut stable the response becomes tooth-periodic, u(t) = u(t − T),
+// so the regenerative chip is the static one and the forces are those of the
+// rigid force model at the same angles (the foundation's milling_forces).
+TEST(BenchmarkChatter, StableSteadyForcesEqualTheForceModel) {
+  const stability::RegenerativeModel model = test::benchmark_1dof(0.05);
+  const double spindle = test::rpm(7300.0), depth = 1.5e-3;  // 0.43 x the FDM limit
+  const Verdict v = simulate_benchmark(spindle, depth, 600.0);
+  cutting::MillingProcess process = model.process();
+  process.spindle_rad_s = spindle;
+  process.axial_depth_m = depth;
+  const cutting::MillingForceModel rigid(model.tool(), model.law(), process, 1);
+  double peak = 0.0, worst = 0.0;
+  const std::size_t last = v.result.size() - 1;
+  for (std::size_t i = last - 2 * 60; i <= last; ++i) {  // the last two tooth periods
+    const Eigen::Vector3d expected = rigid.at(spindle * v.result.time_s[i]).force_n;
+    peak = std::max(peak, expected.norm());
+    worst = std::max(worst, (v.result.force_n[i] - expected).norm());
+  }
+  std::printf(
+      "[validation] benchmark stable at 7300 rpm, 1.5 mm: steady forces vs the rigid force "
+      "model: max difference %.3g N of peak %.4g N\n",
+      worst, peak);
+  EXPECT_FALSE(v.metrics.chatter.chatter);
+  EXPECT_LT(worst, 1e-4 * peak);
+}
+
+}  // namespace
