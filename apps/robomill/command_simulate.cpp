@@ -34,7 +34,8 @@ namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
-/// 002 Eq 23 through its modal decomposition: the reduced model's
+/// 002 Eq 23 through its modal decomposition: the reduced model's (3-D,
+/// translational, for robots with fewer than six joints)
 /// mass-normalized modes (Mr, Kr, Dr at robot.posture), their translational
 /// part rotated into the tool frame, ζ from the robot's joint damping or
 /// simulation.damping_ratio where the robot has none.
@@ -45,7 +46,11 @@ dynamics::ModalModel reduced_modes(const io::Job& job, const io::SimulationSetti
     const robot::RobotModel model(job.robot->description);
     const Eigen::VectorXd q = Eigen::Map<const Eigen::VectorXd>(
         job.robot->posture_rad.data(), static_cast<Eigen::Index>(job.robot->posture_rad.size()));
-    const Eigen::MatrixXd jacobian = robot::tool_jacobian(model, q);
+    // 6-D where six joints make the tip compliance invertible, else the
+    // translational 3-D reduction (as `robomill robot` reports it).
+    const Eigen::MatrixXd jacobian = model.dof() >= 6
+                                         ? Eigen::MatrixXd(robot::tool_jacobian(model, q))
+                                         : robot::linear_jacobian(robot::tool_jacobian(model, q));
     Eigen::MatrixXd joint_damping;
     try {
       joint_damping = robot::joint_damping_matrix(model, q);
@@ -87,7 +92,7 @@ simulation::LinearStructure structure_of(const io::Job& job, const io::Simulatio
       return simulation::fixation_structure(s.mass_kg, s.damping_n_s_per_m, s.stiffness_n_per_m);
     case io::SimulationSettings::Model::reduced6d: {
       simulation::LinearStructure structure = simulation::modal_structure(reduced_modes(job, s));
-      structure.description = "reduced 6-D robot model (002 Eq 23), " + structure.description;
+      structure.description = "reduced robot model (002 Eq 23), " + structure.description;
       return structure;
     }
     case io::SimulationSettings::Model::modes:

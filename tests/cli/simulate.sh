@@ -1,0 +1,56 @@
+#!/usr/bin/env bash
+# `robomill simulate`: files, columns, summary keys, 002's Case B numbers,
+# the robot's structure two ways, and bad settings exiting 2 with the field
+# named, the value that would work, and nothing written.
+source "$(dirname "$0")/lib.bash"
+B="$SOURCE/examples/002_case_b_1dof.yaml"
+C="$SOURCE/examples/002_case_c_2dof.yaml"
+
+"$ROBOMILL" simulate "$B" --set simulation.duration=1.2 --out "$WORK/b" --quiet || fail "case B exit code"
+for f in summary.json timeseries.csv spectrum.csv; do
+  [ -s "$WORK/b/$f" ] || fail "simulate did not write $f"
+done
+[ "$(head -1 "$WORK/b/timeseries.csv" | cut -d, -f1-7)" = "t_s,fx_N,fy_N,fz_N,x_mm,y_mm,z_mm" ] \
+  || fail "timeseries.csv header"
+[ "$(head -1 "$WORK/b/spectrum.csv")" = "frequency_hz,fx_N,fy_N,fz_N,x_mm,y_mm,z_mm" ] \
+  || fail "spectrum.csv header"
+for key in static_deviation_mm overshoot_pct settling_time_s first_frequency_hz chatter \
+  chatter_freq_hz peak_to_peak_mm mean_force_N; do
+  grep -q "\"$key\"" "$WORK/b/summary.json" || fail "summary.json lacks $key"
+done
+grep -qi 'nan\|inf' "$WORK/b/summary.json" "$WORK/b/spectrum.csv" && fail "non-finite number written"
+# 002 Table 1 row 2: |x_s| 0.13 mm, f1 8.8 Hz (ours 0.1333 mm, 8.70 Hz).
+xs=$(json_number "$WORK/b/summary.json" static_deviation_mm x)
+f1=$(json_number "$WORK/b/summary.json" first_frequency_hz x)
+awk -v v="$xs" 'BEGIN { exit !(v < -0.125 && v > -0.142) }' || fail "case B x_s $xs mm"
+awk -v v="$f1" 'BEGIN { exit !(v > 8.36 && v < 9.24) }' || fail "case B f1 $f1 Hz"
+grep -q '"chatter": false' "$WORK/b/summary.json" || fail "case B should not chatter"
+
+# Case C: y deviates 3.33 times as far as x (1/kr).
+"$ROBOMILL" simulate "$C" --set simulation.duration=1.2 --out "$WORK/c" --quiet || fail "case C exit code"
+ys=$(json_number "$WORK/c/summary.json" static_deviation_mm y)
+awk -v v="$ys" 'BEGIN { exit !(v > 0.42 && v < 0.47) }' || fail "case C y_s $ys mm"
+
+# A 3-joint robot: the reduced model (3-D, exact for 3 joints) and the
+# joint-space modes (dynamics.from_robot) are the same structure.
+R="$SOURCE/examples/004_kr300_pose_optimization.yaml"
+SIM='simulation={duration: 0.6 s, steps_per_tooth: 40, damping_ratio: 0.05, model: reduced6d}'
+"$ROBOMILL" simulate "$R" --set "$SIM" --out "$WORK/r1" --quiet || fail "reduced6d exit code"
+"$ROBOMILL" simulate "$R" --set 'simulation={duration: 0.6 s, steps_per_tooth: 40}' \
+  --set dynamics.from_robot=true --out "$WORK/r2" --quiet || fail "from_robot exit code"
+a=$(json_number "$WORK/r1/summary.json" static_deviation_mm y)
+b=$(json_number "$WORK/r2/summary.json" static_deviation_mm y)
+awk -v a="$a" -v b="$b" 'BEGIN { d = a - b; if (d < 0) d = -d; s = b < 0 ? -b : b; exit !(d <= 1e-6 * s) }' \
+  || fail "reduced6d ($a) and from_robot ($b) differ"
+
+# Bad settings: the field, and what would work.
+expect_exit2 "steps_per_tooth: 8" simulate "$B" --set simulation.steps_per_tooth=4
+expect_exit2 "simulation.workpiece.border" simulate "$B" --set simulation.workpiece.border=200
+expect_exit2 "needs duration" simulate "$B" --set simulation.duration=0.3
+expect_exit2 "simulation.fixation" simulate "$B" --set simulation.model=2dof
+expect_exit2 "give either duration or revolutions" simulate "$B" --set simulation.revolutions=10
+expect_exit2 "simulation.fixation.stiffness" simulate "$B" --set simulation.fixation.stiffness=-5
+# The benchmark's 922 Hz mode at 10000 rpm needs 8 steps per 1.09 ms period.
+expect_exit2 "highest mode" simulate "$SOURCE/examples/benchmark_1dof_005.yaml" \
+  --set 'simulation={duration: 0.2 s, steps_per_tooth: 10}' --set process.ae=10
+finish
