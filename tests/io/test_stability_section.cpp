@@ -151,8 +151,8 @@ TEST(StabilitySection, UnknownMethodModeAndKey) {
                "expected one of: coupled, envelope, both");
   expect_error(with_stability(std::string(kMinimal) + "  depht_max: 3\n"), "stability.depht_max",
                10, "unknown key; expected one of: method, mode, modes, speeds, depth_max");
-  expect_error(with_stability(std::string(kMinimal) + "  deformation: true\n"),
-               "stability.deformation", 10, "not supported by this version");
+  expect_error(with_stability(std::string(kMinimal) + "  deformation: true\n  method: zoa\n"),
+               "stability.deformation", 10, "needs a time-domain method");
   expect_error(with_stability("  speeds: {from: 5000, to: 6000, count: 10, step: 5}\n"
                               "  depth_max: 5\n"),
                "stability.speeds.step", 8, "expected one of: from, to, count");
