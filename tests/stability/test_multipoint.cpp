@@ -47,6 +47,14 @@ struct Case000 {
                               {2045.24, 0.0207, Eigen::Vector3d(0, shape_y.at(0.0), 0)}}};
 };
 
+stability::LobeOptions lobe_options(double depth_max_m) {
+  stability::LobeOptions options;
+  options.steps = 30;
+  options.depth_max_m = depth_max_m;
+  options.threads = 1;
+  return options;
+}
+
 TEST(Multipoint, ShapesConstantAlongTheToolGiveTheTipModel) {
   const Case000 c;
   const stability::RegenerativeModel tip(c.tool, c.law, c.process, c.modes);
@@ -60,10 +68,7 @@ TEST(Multipoint, ShapesConstantAlongTheToolGiveTheTipModel) {
     const Eigen::MatrixXd b = multipoint.modal_coupling(angle, 3e-3);
     EXPECT_LT((a - b).norm(), 1e-12 * std::max(1.0, a.norm())) << angle;
   }
-  stability::LobeOptions options;
-  options.steps = 30;
-  options.depth_max_m = 10e-3;
-  options.threads = 1;
+  const stability::LobeOptions options = lobe_options(10e-3);
   const std::vector<double> speeds = {8200 * 2 * kPi / 60, 11500 * 2 * kPi / 60};
   const auto l1 = stability::stability_boundary(tip, speeds, options);
   const auto l2 = stability::stability_boundary(multipoint, speeds, options);
@@ -89,17 +94,15 @@ TEST(Multipoint, Table2ShapesWeakenTheCouplingOfHigherNodes) {
     multipoint_trace += std::abs(multipoint.modal_coupling(angle, 8e-3).trace());
   }
   EXPECT_LT(multipoint_trace, 0.9 * tip_trace);
-  stability::LobeOptions options;
-  options.steps = 30;
-  options.depth_max_m = 20e-3;
-  options.threads = 1;
+  const stability::LobeOptions options = lobe_options(20e-3);
   const std::vector<double> speeds = {11500 * 2 * kPi / 60};
   const double tip_limit = stability::stability_boundary(tip, speeds, options)[0].depth_limit_m;
   const double multipoint_limit =
       stability::stability_boundary(multipoint, speeds, options)[0].depth_limit_m;
-  std::printf("[validation] 000 case at 11500 rpm: tip model %.3f mm, multipoint (Table 2 shapes) "
-              "%.3f mm\n",
-              tip_limit * 1e3, multipoint_limit * 1e3);
+  std::printf(
+      "[validation] 000 case at 11500 rpm: tip model %.3f mm, multipoint (Table 2 shapes) "
+      "%.3f mm\n",
+      tip_limit * 1e3, multipoint_limit * 1e3);
   EXPECT_GT(multipoint_limit, tip_limit);
 }
 
@@ -115,10 +118,7 @@ TEST(Multipoint, LaterEntryShortensTheContactAndRaisesTheLimit) {
   const stability::RegenerativeModel plain(c.tool, c.law, c.process, c.modes);
   const stability::RegenerativeModel unchanged(c.tool, c.law, c.process, c.modes, same);
   const stability::RegenerativeModel deformed(c.tool, c.law, c.process, c.modes, later);
-  stability::LobeOptions options;
-  options.steps = 30;
-  options.depth_max_m = 10e-3;
-  options.threads = 1;
+  const stability::LobeOptions options = lobe_options(10e-3);
   const std::vector<double> speeds = {8200 * 2 * kPi / 60};
   const double a = stability::stability_boundary(plain, speeds, options)[0].depth_limit_m;
   const double b = stability::stability_boundary(unchanged, speeds, options)[0].depth_limit_m;
