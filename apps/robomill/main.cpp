@@ -97,6 +97,14 @@ int main(int argc, char** argv) {
       "timeseries.csv, spectrum.csv, summary.json",
       simulate_options);
 
+  robomill::app::JobCommandOptions advise_options;
+  CLI::App* advise = add_job_command(
+      app, "advise",
+      "cutting-parameter advice: spindle speed and depth maximizing the removal rate inside the "
+      "stability diagram and under the tool-offset limit; the redundancy angle along a path → "
+      "advice.json, summary.json, advice_map.csv, redundancy.csv",
+      advise_options);
+
   robomill::app::IdentifyOptions identify_options;
   CLI::App* identify = app.add_subcommand(
       "identify-cutting",
@@ -198,6 +206,8 @@ int main(int argc, char** argv) {
       return robomill::app::run_optimize(optimize_options);
     if (simulate->parsed())
       return robomill::app::run_simulate(simulate_options);
+    if (advise->parsed())
+      return robomill::app::run_advise(advise_options);
     if (identify_stiffness->parsed())
       return robomill::app::run_identify_stiffness(stiffness_options);
     if (frf->parsed())

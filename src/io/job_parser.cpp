@@ -1855,7 +1855,7 @@ Job read_job(const YAML::Node& root_node, const std::filesystem::path& source,
   const int root_line = provenance.line(root_node, "") > 0 ? provenance.line(root_node, "") : 1;
   SectionReader root(root_node, "", root_line, provenance);
   root.allow({"name", "tool", "cutting", "process", "forces", "dynamics", "stability",
-              "experiments", "robot", "output", "workpiece", "path", "optimize",
+              "experiments", "robot", "output", "workpiece", "path", "optimize", "advise",
               "deflection", "simulation"},
              {"surface"},
              "section not supported by this version of robomill");

@@ -1,13 +1,17 @@
 // The planning sections of a job (docs/job-reference.md, "workpiece",
-// "path", "optimize"): 004 §4.1's table, part and groove, and the pose search
-// of 004 Eq 9. Units are converted here, once: lengths in mm and angles in deg
-// unless written.
+// "path", "optimize", "advise"): 004 §4.1's table, part and groove, the pose
+// search of 004 Eq 9, and the cutting-parameter advice (issue 9 item 4). Units are converted here,
+// once: lengths in mm and angles in deg unless written.
 
 #include "job_parser_planning.hpp"
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cmath>
 #include <numbers>
+
+#include "robomill/stability/lobes.hpp"
 
 namespace robomill::io::detail {
 namespace {
@@ -169,6 +173,135 @@ OptimizeSettings read_optimize(SectionReader& r) {
   return s;
 }
 
+/// `advise:` (issue 9 item 4): the limits and resolution of the
+/// cutting-parameter advice and, optionally, the redundancy-angle study.
+AdviseSettings read_advise(SectionReader& r, const Job& job) {
+  r.allow({"speeds", "refine", "depth_max", "depth_step", "margin", "max_offset", "measure",
+           "harmonics", "samples", "method", "discretization", "depth_tolerance", "peaks", "along",
+           "redundancy_angle", "redundancy"});
+  AdviseSettings s;
+  QuantityField rpm;
+  rpm.dimension = dimensions::angular_speed;
+  rpm.unit_si = 2.0 * std::numbers::pi / 60.0;
+  rpm.unit = "rpm";
+  rpm.min = kPositive;
+  auto speeds = r.section("speeds");
+  if (!speeds)
+    r.fail("speeds", "required: the spindle range {from, to, count} (rpm) to search");
+  speeds->allow({"from", "to", "count"});
+  s.limits.speed_min_rad_s = speeds->quantity("from", rpm);
+  s.limits.speed_count = speeds->integer("count", 1, 100000);
+  s.limits.speed_max_rad_s = speeds->quantity_or("to", rpm, s.limits.speed_min_rad_s);
+  if (s.limits.speed_count > 1 && !(s.limits.speed_max_rad_s > s.limits.speed_min_rad_s))
+    speeds->fail("to", fmt::format("must exceed from ({} rpm) when count > 1, got {} rpm",
+                                   s.limits.speed_min_rad_s / rpm.unit_si,
+                                   s.limits.speed_max_rad_s / rpm.unit_si));
+  speeds->finish();
+  s.limits.refine_count = r.integer_or("refine", 0, 10000, 20);
+
+  // The depth range: advise.depth_max, else stability.depth_max; ≤ overhang.
+  if (auto depth_max = r.optional_quantity("depth_max", length_mm(kPositive)))
+    s.limit.depth_max_m = *depth_max;
+  else if (job.stability)
+    s.limit.depth_max_m = job.stability->depth_max_m;
+  else
+    r.fail("depth_max", "required (or stability.depth_max): the largest depth considered (mm)");
+  if (job.tool && s.limit.depth_max_m > job.tool->overhang_m * (1.0 + 1e-9))
+    r.fail("depth_max", fmt::format("{} mm exceeds the tool overhang {} mm",
+                                    s.limit.depth_max_m * 1e3, job.tool->overhang_m * 1e3));
+  s.limits.depth_step_m =
+      r.quantity_or("depth_step", length_mm(kPositive), s.limit.depth_max_m / 100.0);
+  if (s.limits.depth_step_m > s.limit.depth_max_m * (1.0 + 1e-12) ||
+      s.limit.depth_max_m / s.limits.depth_step_m > 100000.0)
+    r.fail("depth_step",
+           fmt::format("must lie in [depth_max / 100000, depth_max] = [{:g}, {:g}] mm, got {:g} mm",
+                       s.limit.depth_max_m / 100000.0 * 1e3, s.limit.depth_max_m * 1e3,
+                       s.limits.depth_step_m * 1e3));
+  QuantityField margin;
+  margin.dimension = dimensions::none;
+  margin.min = kPositive;
+  margin.max = Bound{1.0, true};
+  s.limits.stability_margin = r.quantity_or("margin", margin, 1.0);
+  s.limits.max_offset_m = r.optional_quantity("max_offset", length_mm(kPositive));
+  const std::string measure = r.choice("measure", {"peak", "vibration", "rms", "mean"}, "peak");
+  s.limits.measure = measure == "vibration" ? planning::OffsetMeasure::vibration
+                     : measure == "rms"     ? planning::OffsetMeasure::rms
+                     : measure == "mean"    ? planning::OffsetMeasure::mean
+                                            : planning::OffsetMeasure::peak;
+  s.limits.harmonics = r.integer_or("harmonics", 1, 2000, 60);
+  s.limits.samples = r.integer_or("samples", 8, 100000, 256);
+  if (s.limits.samples < 2 * s.limits.harmonics + 1)
+    r.fail("samples", fmt::format("must be at least 2 harmonics + 1 = {} (Nyquist), got {}",
+                                  2 * s.limits.harmonics + 1, s.limits.samples));
+  const std::string method = r.choice("method", {"zoa", "sdm", "fdm", "fdm2"}, "zoa");
+  s.limit.method = method == "sdm"    ? planning::LimitMethod::sdm
+                   : method == "fdm"  ? planning::LimitMethod::fdm
+                   : method == "fdm2" ? planning::LimitMethod::fdm2
+                                      : planning::LimitMethod::zoa;
+  s.limit.discretization = r.integer_or("discretization", 4, 10000, 40);
+  if (s.limit.method != planning::LimitMethod::zoa && job.tool &&
+      job.dynamics_source == Job::DynamicsSource::table && !job.modes.empty()) {
+    // Two steps per period of the highest mode at the longest tooth period.
+    double highest_hz = 0.0;
+    for (const ModeSpec& mode : job.modes)
+      highest_hz = std::max(highest_hz, mode.natural_frequency_hz);
+    const double tau = 2.0 * std::numbers::pi / (job.tool->teeth * s.limits.speed_min_rad_s);
+    const double needed = std::ceil(2.0 * highest_hz * tau * (1.0 - 1e-12));
+    if (s.limit.discretization < needed)
+      r.fail("discretization",
+             fmt::format("{} steps per tooth period are too coarse for the {:g} Hz mode at "
+                         "{:g} rpm: at least {:.0f} needed (or method: zoa)",
+                         s.limit.discretization, highest_hz, s.limits.speed_min_rad_s / rpm.unit_si,
+                         needed));
+  }
+  QuantityField tolerance;
+  tolerance.dimension = dimensions::none;
+  tolerance.min = kPositive;
+  tolerance.max = Bound{0.1, true};
+  s.limit.depth_tolerance = r.quantity_or("depth_tolerance", tolerance, 1e-3);
+  s.peaks = r.integer_or("peaks", 0, 1000, 5);
+  s.along_path = r.choice("along", {"posture", "path"}, "posture") == "path";
+  s.redundancy_angle_rad = r.quantity_or("redundancy_angle", angle_deg(), 0.0);
+  if (auto redundancy = r.section("redundancy")) {
+    redundancy->allow({"angles", "at"});
+    AdviseSettings::Redundancy study;
+    auto angles = redundancy->section("angles");
+    if (!angles)
+      redundancy->fail("angles", "required: {from, to, count} (deg) about the tool axis");
+    angles->allow({"from", "to", "count"});
+    const double from = angles->quantity("from", angle_deg());
+    const double to = angles->quantity("to", angle_deg());
+    const int count = angles->integer("count", 1, 3600);
+    if (count > 1 && !(to > from))
+      angles->fail("to", fmt::format("must exceed from ({:g} deg) when count > 1, got {:g} deg",
+                                     from / kDeg, to / kDeg));
+    angles->finish();
+    study.angles_rad = stability::linear_range(from, count > 1 ? to : from, count);
+    study.at_spindle = redundancy->choice("at", {"range", "spindle"}, "range") == "spindle";
+    if (!job.robot)
+      redundancy->fail_here("needs a robot: section (the redundancy angle turns its posture)");
+    const std::size_t joints = job.robot->description.joints.size();
+    if (joints < 6)
+      redundancy->fail_here(fmt::format(
+          "the robot has {} joints: no rotation about the tool axis is free (a redundancy "
+          "angle needs a 6-joint robot)",
+          joints));
+    if (job.robot->description.dh && job.robot->description.dh->links.empty())
+      redundancy->fail_here("needs the robot's link masses (robot.links) for its modes");
+    if (!job.path.empty() && !job.workpiece)
+      redundancy->fail_here("a path needs a workpiece: section to be placed in the cell");
+    if ((job.path.empty() || !job.workpiece || !job.workpiece->pose) &&
+        job.robot->posture_rad.empty())
+      redundancy->fail_here(
+          "needs robot.posture (the tool pose to turn about its axis), or a path with "
+          "workpiece.pose");
+    redundancy->finish();
+    s.redundancy = study;
+  }
+  r.finish();
+  return s;
+}
+
 }  // namespace
 
 void read_planning(SectionReader& root, Job& job) {
@@ -189,6 +322,20 @@ void read_planning(SectionReader& root, Job& job) {
       optimize->fail_here("needs the robot's link masses (robot.links) for M(q) of 004 Eq 1");
     if (!job.tool || !job.cutting || !job.process)
       optimize->fail_here("needs tool:, cutting: and process: sections (the milling force)");
+  }
+  if (auto advise = root.section("advise")) {
+    if (!job.tool || !job.cutting || !job.process)
+      advise->fail_here("needs tool:, cutting: and process: sections (ae, feed, the force law)");
+    job.advise = read_advise(*advise, job);
+    if (job.advise->along_path) {
+      if (!job.workpiece || !job.workpiece->pose || job.path.empty())
+        advise->fail("along", "path: needs a path: section and workpiece.pose (where the part is)");
+      if (!job.robot || job.robot->description.joints.size() < 6)
+        advise->fail("along",
+                     "path: needs a 6-joint robot: section (the posture at every path point)");
+      if (job.robot->description.dh && job.robot->description.dh->links.empty())
+        advise->fail("along", "path: needs the robot's link masses (robot.links) for its modes");
+    }
   }
 }
 

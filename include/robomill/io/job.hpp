@@ -13,6 +13,7 @@
 #include "robomill/dynamics/axial_shape.hpp"
 #include "robomill/dynamics/frf.hpp"
 #include "robomill/dynamics/modal_model.hpp"
+#include "robomill/planning/cutting_advice.hpp"
 #include "robomill/planning/pose_optimization.hpp"
 #include "robomill/robot/posture_interpolation.hpp"
 #include "robomill/robot/robot_description.hpp"
@@ -200,6 +201,26 @@ struct SimulationSettings {
   int line = 0, steps_line = 0, duration_line = 0, border_line = 0;
 };
 
+/// `advise:` — the cutting-parameter advice of `robomill advise` (issue 9
+/// item 4): the spindle range, depth resolution, stability margin and offset
+/// limit, the stability engine, and optionally the redundancy-angle study.
+struct AdviseSettings {
+  planning::AdviceLimits limits;  ///< speeds, refine, depth_step, margin, max_offset, measure
+  planning::LimitSettings limit;  ///< method, discretization, depth_max, depth_tolerance
+  int peaks = 5;                  ///< runner-ups reported
+  /// `along: path`: every point of the job's path at workpiece.pose is a
+  /// station (the robot's modes there); `posture` (default): the job's
+  /// structure (dynamics:) at robot.posture.
+  bool along_path = false;
+  double redundancy_angle_rad = 0.0;  ///< `redundancy_angle`: ψ used along the path
+  /// `redundancy: {angles: {from, to, count}, at: range|spindle}`.
+  struct Redundancy {
+    std::vector<double> angles_rad;
+    bool at_spindle = false;  ///< a_min at process.spindle instead of over the speeds
+  };
+  std::optional<Redundancy> redundancy;
+};
+
 struct OutputSettings {
   std::string dir;  ///< empty: the command's default (out/<command>)
   bool csv = true, json = true, html = true;
@@ -237,6 +258,7 @@ struct Job {
   std::vector<planning::PathPoint> path;       ///< `path:` (workpiece frame)
   std::optional<DeflectionSettings> deflection;  ///< `deflection:` (000 §2, §4)
   std::optional<OptimizeSettings> optimize;    ///< `optimize:`
+  std::optional<AdviseSettings> advise;        ///< `advise:`
   std::optional<SimulationSettings> simulation;  ///< `simulation:`
   OutputSettings output;
 

@@ -1,0 +1,348 @@
+// robomill advise JOB: cutting-parameter advice (issue 9 item 4). The spindle
+// speed and axial depth that maximize the material removal rate inside the
+// stability diagram (with the job's safety factor) and under the job's
+// tool-offset limit, at the job's posture or at every point of its path; and,
+// with advise.redundancy, the rotation of a 6-joint robot about the tool axis
+// that maximizes the minimum stable depth along the path.
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <numbers>
+
+#include "commands.hpp"
+#include "robomill/core/error.hpp"
+#include "robomill/io/csv.hpp"
+#include "robomill/io/output_bundle.hpp"
+#include "robomill/io/structure.hpp"
+#include "robomill/io/summary.hpp"
+#include "robomill/planning/cutting_advice.hpp"
+#include "robomill/planning/redundancy_study.hpp"
+#include "robomill/robot/joint_dynamics.hpp"
+#include "robomill/robot/kinematics.hpp"
+
+namespace robomill::app {
+namespace {
+
+constexpr double kRpmPerRadS = 60.0 / (2.0 * std::numbers::pi);
+constexpr double kDegPerRad = 180.0 / std::numbers::pi;
+constexpr double kCm3PerMinPerM3PerS = 1e6 * 60.0;
+
+Eigen::VectorXd seed_posture(const io::Job& job, const robot::RobotModel& robot) {
+  if (job.robot->posture_rad.empty())
+    return Eigen::VectorXd::Zero(robot.dof());
+  return Eigen::Map<const Eigen::VectorXd>(job.robot->posture_rad.data(), robot.dof());
+}
+
+/// The job's path placed at workpiece.pose (004 Eq 7).
+std::vector<planning::PlacedPoint> placed_path(const io::Job& job) {
+  std::vector<planning::PlacedPoint> points;
+  for (const planning::PathPoint& p : job.path)
+    points.push_back(planning::place(job.workpiece->cell, *job.workpiece->pose, p));
+  return points;
+}
+
+/// The robot's tool-tip modes (cutting frame) at every path point, the robot
+/// turned by ψ about the tool axis; an unreachable point is an input error.
+std::vector<dynamics::ModalModel> path_stations(const io::Job& job,
+                                                const robot::RobotModel& robot) {
+  const std::vector<planning::PlacedPoint> points = placed_path(job);
+  const double psi = job.advise->redundancy_angle_rad;
+  std::vector<dynamics::ModalModel> stations;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    Eigen::Isometry3d target = Eigen::Isometry3d::Identity();
+    target.translation() = points[i].position_m;
+    target.linear() =
+        points[i].tool_to_cell * Eigen::AngleAxisd(psi, Eigen::Vector3d::UnitZ()).matrix();
+    const robot::IkResult ik = robot::inverse_kinematics(robot, target, seed_posture(job, robot));
+    if (ik.position_residual_m > 1e-7 || ik.orientation_residual_rad > 1e-6 ||
+        !robot.within_limits(ik.q)) {
+      const Eigen::Vector3d x = points[i].position_m * 1e3;
+      throw InputError(
+          "path", 0,
+          fmt::format("point {} of {} at [{:.1f}, {:.1f}, {:.1f}] mm (cell frame) is "
+                      "not reachable at redundancy angle {:g} deg within the joint "
+                      "limits (IK leaves {:.3g} mm, {:.3g} deg)",
+                      i + 1, points.size(), x.x(), x.y(), x.z(), psi * kDegPerRad,
+                      ik.position_residual_m * 1e3, ik.orientation_residual_rad * kDegPerRad));
+    }
+    stations.push_back(
+        robot::tool_tip_modal_model(robot, ik.q, points[i].tool_to_cell.transpose()));
+  }
+  return stations;
+}
+
+/// Floquet methods step in time: two steps per period of the highest mode.
+void check_discretization(const io::Job& job, const std::vector<dynamics::ModalModel>& stations) {
+  const io::AdviseSettings& s = *job.advise;
+  if (s.limit.method == planning::LimitMethod::zoa)
+    return;
+  double highest_hz = 0.0;
+  for (const auto& station : stations)
+    highest_hz = std::max(highest_hz, station.highest_frequency_hz());
+  const double tau = 2.0 * std::numbers::pi / (job.tool->teeth * s.limits.speed_min_rad_s);
+  const double needed = std::ceil(2.0 * highest_hz * tau * (1.0 - 1e-12));
+  if (s.limit.discretization < needed)
+    throw InputError("advise.discretization", 0,
+                     fmt::format("{} steps per tooth period are too coarse for the {:g} Hz mode "
+                                 "of the structure: at least {:.0f} needed (or method: zoa)",
+                                 s.limit.discretization, highest_hz, needed));
+}
+
+nlohmann::json speed_json(const planning::SpeedAdvice& a, const io::Job& job) {
+  const int teeth = job.tool->teeth;
+  nlohmann::json j = {
+      {"spindle_rpm", a.spindle_rad_s * kRpmPerRadS},
+      {"depth_mm", a.depth_m * 1e3},
+      {"limit_depth_mm", a.limit_depth_m * 1e3},
+      {"limited", a.limited},
+      {"stable_depth_mm", a.stable_depth_m * 1e3},
+      {"expected_offset_mm", a.offset_m * 1e3},
+      {"offset_limited", a.offset_limited},
+      {"mrr_cm3_per_min", a.mrr_m3_per_s * kCm3PerMinPerM3PerS},
+      {"feed_speed_mm_per_min",
+       job.process->feed_per_tooth_m * teeth * a.spindle_rad_s / (2.0 * std::numbers::pi) * 6e4},
+      {"governing_station", a.station + 1},
+      {"stage", a.stage == 0 ? "scan" : "refine"}};
+  if (a.limited)
+    j["chatter_freq_hz"] = a.chatter_frequency_hz;
+  if (a.depth_m > 0.0)
+    j["margin_to_chatter"] = a.limit_depth_m / a.depth_m;
+  return j;
+}
+
+}  // namespace
+
+int run_advise(const JobCommandOptions& options) {
+  const io::Job job = load(options);
+  if (!job.advise)
+    throw InputError("advise", 0,
+                     "required: the advise: section (spindle range, depth step, margin, offset "
+                     "limit)");
+  const io::AdviseSettings& settings = *job.advise;
+  const auto start = std::chrono::steady_clock::now();
+
+  std::optional<robot::RobotModel> robot;
+  if (job.robot && (settings.along_path || settings.redundancy)) {
+    try {
+      robot.emplace(job.robot->description);
+    } catch (const std::invalid_argument& error) {
+      throw InputError("robot", 0, error.what());
+    }
+  }
+  std::vector<dynamics::ModalModel> stations;
+  try {
+    if (settings.along_path)
+      stations = path_stations(job, *robot);
+    else
+      stations.push_back(io::structure_modes(job));
+  } catch (const std::invalid_argument& error) {
+    throw InputError(settings.along_path ? "advise.along" : "dynamics", 0, error.what());
+  }
+  check_discretization(job, stations);
+
+  const tool::Tool cutter(*job.tool);
+  planning::AdviceOptions advice_options;
+  advice_options.limit = settings.limit;
+  advice_options.peaks = settings.peaks;
+  advice_options.threads = options.threads;
+  const planning::CuttingAdvice advice = planning::advise_cutting(
+      cutter, *job.cutting, *job.process, stations, settings.limits, advice_options);
+
+  std::optional<planning::RedundancyStudy> study;
+  if (settings.redundancy) {
+    std::vector<planning::PlacedPoint> points;
+    if (!job.path.empty() && job.workpiece && job.workpiece->pose) {
+      points = placed_path(job);
+    } else {
+      const Eigen::Isometry3d pose = robot::tool_pose(*robot, seed_posture(job, *robot));
+      points.push_back({pose.translation(), pose.linear()});
+    }
+    planning::RedundancyOptions study_options;
+    study_options.angles_rad = settings.redundancy->angles_rad;
+    study_options.spindle_rad_s =
+        settings.redundancy->at_spindle
+            ? std::vector<double>{job.process->spindle_rad_s}
+            : stability::linear_range(settings.limits.speed_min_rad_s,
+                                      settings.limits.speed_max_rad_s, settings.limits.speed_count);
+    study_options.limit = settings.limit;
+    study_options.threads = options.threads;
+    study = planning::redundancy_study(*robot, points, seed_posture(job, *robot), cutter,
+                                       *job.cutting, *job.process, study_options);
+  }
+  const double elapsed_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  // advice.json: everything; summary.json: the key figures.
+  nlohmann::json peaks = nlohmann::json::array();
+  for (const auto& p : advice.peaks)
+    peaks.push_back(speed_json(p, job));
+  nlohmann::json limits = {
+      {"speed_from_rpm", settings.limits.speed_min_rad_s * kRpmPerRadS},
+      {"speed_to_rpm", settings.limits.speed_max_rad_s * kRpmPerRadS},
+      {"speeds", settings.limits.speed_count},
+      {"refine", settings.limits.refine_count},
+      {"depth_max_mm", settings.limit.depth_max_m * 1e3},
+      {"depth_step_mm", settings.limits.depth_step_m * 1e3},
+      {"margin", settings.limits.stability_margin},
+      {"max_offset_mm", settings.limits.max_offset_m
+                            ? nlohmann::json(*settings.limits.max_offset_m * 1e3)
+                            : nlohmann::json(nullptr)},
+      {"measure", std::string(planning::to_string(settings.limits.measure))}};
+  nlohmann::json check = {{"done", advice.check.done}};
+  if (advice.check.done) {
+    check["method"] = advice.check.method;
+    check["steps"] = advice.check.steps;
+    check["spectral_radius"] = advice.check.spectral_radius;
+    check["stable"] = advice.check.spectral_radius < 1.0;
+    if (advice.check.next_done) {
+      check["next_depth_mm"] = advice.best.depth_m * 1e3 + settings.limits.depth_step_m * 1e3;
+      check["next_spectral_radius"] = advice.check.next_spectral_radius;
+    }
+    check["stepped_down"] = advice.stepped_down;
+  }
+  nlohmann::json document = {
+      {"command", "advise"},
+      {"job", job.source.string()},
+      {"method", std::string(planning::to_string(settings.limit.method))},
+      {"along", settings.along_path ? "path" : "posture"},
+      {"dynamics", settings.along_path ? "robot" : io::dynamics_source_name(job.dynamics_source)},
+      {"stations", stations.size()},
+      {"limits", limits},
+      {"feasible", advice.feasible},
+      {"advice", speed_json(advice.best, job)},
+      {"floquet_check", check},
+      {"peaks", peaks},
+      {"process",
+       {{"ae_mm", job.process->radial_depth_m * 1e3},
+        {"feed_per_tooth_mm", job.process->feed_per_tooth_m * 1e3},
+        {"teeth", job.tool->teeth},
+        {"direction", std::string(cutting::to_string(job.process->direction))}}},
+      {"advice_s", advice.elapsed_s},
+      {"elapsed_s", elapsed_s}};
+  if (settings.along_path)
+    document["redundancy_angle_deg"] = settings.redundancy_angle_rad * kDegPerRad;
+  nlohmann::json summary = {{"command", "advise"},
+                            {"job", job.source.string()},
+                            {"feasible", advice.feasible},
+                            {"spindle_rpm", advice.best.spindle_rad_s * kRpmPerRadS},
+                            {"depth_mm", advice.best.depth_m * 1e3},
+                            {"mrr_cm3_per_min", advice.best.mrr_m3_per_s * kCm3PerMinPerM3PerS},
+                            {"limit_depth_mm", advice.best.limit_depth_m * 1e3},
+                            {"expected_offset_mm", advice.best.offset_m * 1e3},
+                            {"offset_limited", advice.best.offset_limited},
+                            {"stations", stations.size()},
+                            {"method", std::string(planning::to_string(settings.limit.method))},
+                            {"elapsed_s", elapsed_s}};
+  if (advice.feasible)
+    summary["margin_to_chatter"] = advice.margin_to_chatter;
+  if (advice.check.done)
+    summary["spectral_radius"] = advice.check.spectral_radius;
+
+  io::CsvTable map({"spindle_rpm", "stage", "limit_depth_mm", "limited", "station",
+                    "chatter_freq_hz", "stable_depth_mm", "depth_mm", "offset_mm", "offset_limited",
+                    "mrr_cm3_per_min"});
+  std::vector<planning::SpeedAdvice> rows = advice.scan;
+  std::stable_sort(rows.begin(), rows.end(),
+                   [](const auto& a, const auto& b) { return a.spindle_rad_s < b.spindle_rad_s; });
+  for (const auto& a : rows)
+    map.add_row({a.spindle_rad_s * kRpmPerRadS, double(a.stage), a.limit_depth_m * 1e3,
+                 a.limited ? 1.0 : 0.0, double(a.station + 1), a.chatter_frequency_hz,
+                 a.stable_depth_m * 1e3, a.depth_m * 1e3, a.offset_m * 1e3,
+                 a.offset_limited ? 1.0 : 0.0, a.mrr_m3_per_s * kCm3PerMinPerM3PerS});
+
+  std::optional<io::CsvTable> redundancy_table;
+  if (study) {
+    std::vector<std::string> columns = {"point",        "angle_deg",      "reachable",
+                                        "min_limit_mm", "at_spindle_rpm", "lowest_fn_hz"};
+    for (int j = 0; j < robot->dof(); ++j)
+      columns.push_back(fmt::format("q{}_deg", j + 1));
+    redundancy_table.emplace(columns);
+    nlohmann::json per_point = nlohmann::json::array();
+    for (std::size_t i = 0; i < study->points.size(); ++i) {
+      const planning::PointRedundancy& p = study->points[i];
+      for (const planning::RedundancySample& s : p.samples) {
+        std::vector<double> row = {
+            double(i + 1),       s.angle_rad * kDegPerRad,         s.reachable ? 1.0 : 0.0,
+            s.min_limit_m * 1e3, s.at_spindle_rad_s * kRpmPerRadS, s.lowest_fn_hz};
+        for (int j = 0; j < robot->dof(); ++j)
+          row.push_back(s.q[j] * kDegPerRad);
+        redundancy_table->add_row(row);
+      }
+      nlohmann::json entry = {{"point", i + 1}};
+      if (p.best >= 0) {
+        const planning::RedundancySample& b = p.samples[std::size_t(p.best)];
+        entry["best_angle_deg"] = b.angle_rad * kDegPerRad;
+        entry["min_limit_mm"] = b.min_limit_m * 1e3;
+        entry["worst_angle_min_limit_mm"] = [&] {
+          double worst = b.min_limit_m;
+          for (const auto& s : p.samples)
+            if (s.reachable)
+              worst = std::min(worst, s.min_limit_m);
+          return worst * 1e3;
+        }();
+      } else {
+        entry["best_angle_deg"] = nullptr;
+      }
+      per_point.push_back(entry);
+    }
+    nlohmann::json redundancy = {{"angles", settings.redundancy->angles_rad.size()},
+                                 {"points", study->points.size()},
+                                 {"at", settings.redundancy->at_spindle ? "spindle" : "range"},
+                                 {"per_point", per_point},
+                                 {"elapsed_s", study->elapsed_s}};
+    if (study->best_constant >= 0) {
+      const double angle = settings.redundancy->angles_rad[std::size_t(study->best_constant)];
+      redundancy["best_constant_angle_deg"] = angle * kDegPerRad;
+      redundancy["constant_min_limit_mm"] = study->constant_min_limit_m * 1e3;
+      redundancy["constant_weakest_point"] = study->constant_weakest_point + 1;
+      summary["redundancy_angle_deg"] = angle * kDegPerRad;
+      summary["redundancy_min_limit_mm"] = study->constant_min_limit_m * 1e3;
+    } else {
+      redundancy["best_constant_angle_deg"] = nullptr;
+      redundancy["note"] = "no candidate angle reaches every point within the joint limits";
+    }
+    document["redundancy"] = redundancy;
+  }
+
+  const std::filesystem::path out = output_dir(options, job, "advise");
+  io::OutputBundle bundle(out);
+  if (job.output.csv) {
+    bundle.add("advice_map.csv", map.to_string());
+    if (redundancy_table)
+      bundle.add("redundancy.csv", redundancy_table->to_string());
+  }
+  if (job.output.json) {
+    bundle.add("advice.json", io::summary_text(document));
+    bundle.add("summary.json", io::summary_text(summary));
+  }
+  bundle.commit();
+
+  if (!options.quiet) {
+    if (advice.feasible) {
+      std::cout << fmt::format(
+          "advise ({}, {} station(s)): {:.0f} rpm, ap = {:.3f} mm → MRR {:.2f} cm³/min; limit "
+          "{:.3f} mm (margin to chatter {:.2f}), expected offset {:.4f} mm{}\n",
+          planning::to_string(settings.limit.method), stations.size(),
+          advice.best.spindle_rad_s * kRpmPerRadS, advice.best.depth_m * 1e3,
+          advice.best.mrr_m3_per_s * kCm3PerMinPerM3PerS, advice.best.limit_depth_m * 1e3,
+          advice.margin_to_chatter, advice.best.offset_m * 1e3,
+          advice.best.offset_limited ? " (offset-limited)" : "");
+    } else {
+      std::cout << "advise: no speed in the range admits one depth step within the limits\n";
+    }
+    if (study && study->best_constant >= 0)
+      std::cout << fmt::format(
+          "  redundancy: constant angle {:g} deg, minimum stable depth {:.3f} mm\n",
+          settings.redundancy->angles_rad[std::size_t(study->best_constant)] * kDegPerRad,
+          study->constant_min_limit_m * 1e3);
+    std::cout << fmt::format("  {:.2f} s; written to {}\n", elapsed_s, out.string());
+  }
+  return 0;
+}
+
+}  // namespace robomill::app
