@@ -74,4 +74,13 @@ struct FrfCommandOptions {
 };
 int run_frf(const FrfCommandOptions& options);
 
+/// `robomill atlas JOB`: the workspace atlas into its SQLite store (issue 11);
+/// with `export_dir` the store's results as atlas.csv and summary.json.
+struct AtlasOptions {
+  JobCommandOptions job;  ///< job_file, overrides, threads, quiet
+  std::filesystem::path export_dir;
+  bool restart = false;  ///< discard a store written by another job
+};
+int run_atlas(const AtlasOptions& options);
+
 }  // namespace robomill::app

@@ -180,6 +180,22 @@ int main(int argc, char** argv) {
                   "relative complex noise, e.g. 0.02 for 2 % of |H| (default 0)");
   frf->add_option("--seed", frf_options.seed, "seed of the noise (default 1)");
 
+  robomill::app::AtlasOptions atlas_options;
+  CLI::App* atlas_command = add_job_command(
+      app, "atlas",
+      "workspace atlas (issue 11): grid points x redundancy angles, per item compliance, lowest "
+      "natural frequency, min/max stable depth; thread-parallel, resumable SQLite store "
+      "(atlas.store); --export OUT writes atlas.csv, summary.json",
+      atlas_options.job, false);
+  atlas_command->add_option("--threads", atlas_options.job.threads,
+                            "worker threads (default: all cores)")
+      ->check(CLI::NonNegativeNumber);
+  atlas_command->add_option("--export", atlas_options.export_dir,
+                            "write atlas.csv and summary.json from the store into this folder "
+                            "(computes nothing)");
+  atlas_command->add_flag("--restart", atlas_options.restart,
+                          "discard a store written by another job or version and start over");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
@@ -212,6 +228,8 @@ int main(int argc, char** argv) {
       return robomill::app::run_identify_stiffness(stiffness_options);
     if (frf->parsed())
       return robomill::app::run_frf(frf_options);
+    if (atlas_command->parsed())
+      return robomill::app::run_atlas(atlas_options);
   } catch (const robomill::InputError& error) {
     std::cerr << "robomill: error: " << error.what() << '\n';
     return kExitInvalidInput;

@@ -26,6 +26,7 @@
 #include "robomill/io/units.hpp"
 #include "text.hpp"
 #include "yaml_reader.hpp"
+#include "job_parser_atlas.hpp"
 #include "job_parser_deflection.hpp"
 #include "job_parser_planning.hpp"
 #include "job_parser_simulation.hpp"
@@ -1856,7 +1857,7 @@ Job read_job(const YAML::Node& root_node, const std::filesystem::path& source,
   SectionReader root(root_node, "", root_line, provenance);
   root.allow({"name", "tool", "cutting", "process", "forces", "dynamics", "stability",
               "experiments", "robot", "output", "workpiece", "path", "optimize", "advise",
-              "deflection", "simulation"},
+              "deflection", "simulation", "atlas"},
              {"surface"},
              "section not supported by this version of robomill");
   Job job;
@@ -1875,6 +1876,7 @@ Job read_job(const YAML::Node& root_node, const std::filesystem::path& source,
   detail::read_planning(root, job);  // workpiece, path, optimize (job_parser_planning.cpp)
   detail::read_simulation(root, job);  // simulation (job_parser_simulation.cpp)
   detail::read_deflection(root, job);  // 000 §2-4 (job_parser_deflection.cpp)
+  detail::read_atlas(root, job);  // issue 11 (job_parser_atlas.cpp)
   job.output = read_output(root);
   root.finish();
   return job;

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "robomill/atlas/atlas.hpp"
 #include "robomill/cutting/cutting_law.hpp"
 #include "robomill/cutting/process.hpp"
 #include "robomill/dynamics/axial_shape.hpp"
@@ -260,6 +261,7 @@ struct Job {
   std::optional<OptimizeSettings> optimize;    ///< `optimize:`
   std::optional<AdviseSettings> advise;        ///< `advise:`
   std::optional<SimulationSettings> simulation;  ///< `simulation:`
+  std::optional<atlas::AtlasSpec> atlas;         ///< `atlas:` (docs/atlas.md)
   OutputSettings output;
 
   /// Resolves a path written in the job relative to the job file's folder.

@@ -1,0 +1,304 @@
+// robomill atlas JOB: the workspace atlas of issue 11 — grid points ×
+// redundancy angles, per item the job's analyses (compliance, lowest natural
+// frequency, min/max stable depth over a spindle range), computed on a
+// thread pool and committed in batches to a resumable SQLite store;
+// `--export OUT` writes atlas.csv and summary.json from the store.
+//
+// Threads: workers take item ids from an atomic counter and hand results to
+// the main thread, which alone owns the store connection. Every item is
+// computed from the same seed posture, so the store does not depend on the
+// thread count or the order in which items finish.
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <csignal>
+#include <fstream>
+#include <iostream>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <numbers>
+#include <sstream>
+#include <thread>
+
+#include "commands.hpp"
+#include "robomill/atlas/atlas.hpp"
+#include "robomill/atlas/store.hpp"
+#include "robomill/core/error.hpp"
+#include "robomill/core/parallel.hpp"
+#include "robomill/io/csv.hpp"
+#include "robomill/io/output_bundle.hpp"
+#include "robomill/io/summary.hpp"
+#include "robomill/robot/robot_model.hpp"
+
+namespace robomill::app {
+namespace {
+
+constexpr double kDegPerRad = 180.0 / std::numbers::pi;
+constexpr double kRpmPerRadS = 60.0 / (2.0 * std::numbers::pi);
+
+std::atomic<bool> g_interrupted{false};
+extern "C" void on_interrupt(int) {
+  g_interrupted.store(true);
+}
+
+/// The job as the store records it: the file's bytes, then each --set.
+atlas::StoreIdentity identity_of(const JobCommandOptions& options, int dof) {
+  std::ifstream in(options.job_file, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  std::string canonical = text.str();
+  for (const std::string& o : options.overrides)
+    canonical += "\n# --set " + o;
+  atlas::StoreIdentity identity;
+  identity.job_text = canonical;
+  identity.job_hash = atlas::fnv1a_hex(canonical);
+  identity.dof = dof;
+  return identity;
+}
+
+std::string duration_text(double seconds) {
+  if (!std::isfinite(seconds) || seconds < 0.0)
+    return "?";
+  if (seconds < 120.0)
+    return fmt::format("{:.0f} s", seconds);
+  if (seconds < 7200.0)
+    return fmt::format("{:.0f} min", seconds / 60.0);
+  return fmt::format("{:.1f} h", seconds / 3600.0);
+}
+
+int export_store(const AtlasOptions& options, const io::Job& job,
+                 const atlas::StoreIdentity& identity) {
+  const atlas::AtlasSpec& spec = *job.atlas;
+  atlas::AtlasStore store(spec.store, identity);
+  const std::int64_t total = store.item_total();
+  const std::vector<atlas::StoredItem> rows = store.finished();
+  const int dof = store.dof();
+  std::vector<std::string> columns = {"item",
+                                      "x_mm",
+                                      "y_mm",
+                                      "z_mm",
+                                      "redundancy_deg",
+                                      "reachable",
+                                      "lowest_fn_hz",
+                                      "compliance_feed_um_per_N",
+                                      "compliance_normal_um_per_N",
+                                      "compliance_axial_um_per_N",
+                                      "condition_number",
+                                      "depth_min_mm",
+                                      "speed_at_min_rpm",
+                                      "depth_max_mm",
+                                      "speed_at_max_rpm"};
+  for (int j = 0; j < dof; ++j)
+    columns.push_back(fmt::format("q{}_deg", j + 1));
+  io::CsvTable table(columns);
+  int reachable = 0;
+  double fn_low = INFINITY, fn_high = 0.0, dmin_low = INFINITY, dmin_high = 0.0;
+  for (const atlas::StoredItem& s : rows) {
+    const atlas::AtlasResult& r = s.result;
+    std::vector<double> row = {static_cast<double>(s.item.id),
+                               s.item.position_m.x() * 1e3,
+                               s.item.position_m.y() * 1e3,
+                               s.item.position_m.z() * 1e3,
+                               s.item.redundancy_rad * kDegPerRad,
+                               r.reachable ? 1.0 : 0.0,
+                               r.lowest_frequency_hz,
+                               r.compliance_feed_m_per_n * 1e6,
+                               r.compliance_normal_m_per_n * 1e6,
+                               r.compliance_axial_m_per_n * 1e6,
+                               r.condition_number,
+                               r.depth_min_m * 1e3,
+                               r.speed_at_min_rad_s * kRpmPerRadS,
+                               r.depth_max_m * 1e3,
+                               r.speed_at_max_rad_s * kRpmPerRadS};
+    for (int j = 0; j < dof; ++j)
+      row.push_back(r.reachable && r.q.size() == dof ? r.q[j] * kDegPerRad : 0.0);
+    table.add_row(row);
+    if (r.reachable) {
+      ++reachable;
+      if (spec.frequency) {
+        fn_low = std::min(fn_low, r.lowest_frequency_hz);
+        fn_high = std::max(fn_high, r.lowest_frequency_hz);
+      }
+      if (spec.stability) {
+        dmin_low = std::min(dmin_low, r.depth_min_m);
+        dmin_high = std::max(dmin_high, r.depth_min_m);
+      }
+    }
+  }
+  nlohmann::json summary = {{"command", "atlas"},
+                            {"job", job.source.string()},
+                            {"store", spec.store.string()},
+                            {"job_hash", identity.job_hash},
+                            {"code_version", identity.code_version},
+                            {"items", total},
+                            {"finished", rows.size()},
+                            {"complete", static_cast<std::int64_t>(rows.size()) == total},
+                            {"reachable", reachable}};
+  if (reachable > 0 && spec.frequency)
+    summary["lowest_fn_hz"] = {{"min", fn_low}, {"max", fn_high}};
+  if (reachable > 0 && spec.stability)
+    summary["depth_min_mm"] = {{"min", dmin_low * 1e3}, {"max", dmin_high * 1e3}};
+  io::OutputBundle bundle(options.export_dir);
+  bundle.add("atlas.csv", table.to_string());
+  bundle.add("summary.json", io::summary_text(summary));
+  bundle.commit();
+  if (!options.job.quiet) {
+    std::cout << fmt::format("atlas: {} of {} items finished ({} reachable) → {}\n", rows.size(),
+                             total, reachable, options.export_dir.string());
+  }
+  return 0;
+}
+
+}  // namespace
+
+int run_atlas(const AtlasOptions& options) {
+  const io::Job job = load(options.job);
+  if (!job.atlas)
+    throw InputError("atlas", 0, "required: the atlas: section (grid, analyses, store)");
+  const atlas::AtlasSpec& spec = *job.atlas;
+  const robot::RobotModel model(job.robot->description);
+  const atlas::StoreIdentity identity = identity_of(options.job, model.dof());
+  try {
+    if (!options.export_dir.empty())
+      return export_store(options, job, identity);
+
+    const Eigen::VectorXd seed =
+        Eigen::Map<const Eigen::VectorXd>(job.robot->posture_rad.data(), model.dof());
+    std::optional<tool::Tool> tool;
+    if (job.tool)
+      tool.emplace(*job.tool);
+    const atlas::AtlasContext context(spec, model, seed, tool, job.cutting, job.process);
+
+    atlas::AtlasStore store(spec.store, identity, spec, options.restart);
+    const std::vector<std::int64_t> pending = store.pending();
+    const std::int64_t total = store.item_total();
+    const std::int64_t already = total - static_cast<std::int64_t>(pending.size());
+    const int threads = std::min<int>(core::resolve_thread_count(options.job.threads),
+                                      std::max<std::size_t>(pending.size(), 1));
+    const bool progress = !options.job.quiet && isatty(STDERR_FILENO);
+
+    g_interrupted.store(false);
+    auto previous_int = std::signal(SIGINT, on_interrupt);
+    auto previous_term = std::signal(SIGTERM, on_interrupt);
+
+    std::atomic<std::size_t> next{0};
+    std::atomic<bool> stop{false};
+    std::mutex mutex;
+    std::condition_variable ready;
+    std::vector<std::pair<std::int64_t, atlas::AtlasResult>> queue, batch;
+    std::exception_ptr failure;
+    int running = threads;
+    std::vector<std::thread> pool;
+    pool.reserve(static_cast<std::size_t>(threads));
+    const auto start = std::chrono::steady_clock::now();
+    for (int w = 0; w < threads; ++w) {
+      pool.emplace_back([&] {
+        try {
+          for (;;) {
+            if (stop.load() || g_interrupted.load())
+              break;
+            const std::size_t i = next.fetch_add(1);
+            if (i >= pending.size())
+              break;
+            atlas::AtlasResult r = context.evaluate(atlas::item(spec, pending[i]));
+            const std::lock_guard lock(mutex);
+            queue.emplace_back(pending[i], std::move(r));
+            ready.notify_one();
+          }
+        } catch (...) {
+          const std::lock_guard lock(mutex);
+          if (!failure)
+            failure = std::current_exception();
+          stop.store(true);
+        }
+        const std::lock_guard lock(mutex);
+        --running;
+        ready.notify_one();
+      });
+    }
+
+    // The main thread: commit what the workers hand back, every quarter second
+    // (or every `batch` items), and report progress.
+    std::int64_t committed = 0;
+    auto last_commit = std::chrono::steady_clock::now();
+    auto last_report = last_commit - std::chrono::seconds(1);
+    std::exception_ptr store_failure;
+    for (bool workers_done = false; !workers_done;) {
+      {
+        std::unique_lock lock(mutex);
+        ready.wait_for(lock, std::chrono::milliseconds(100), [&] {
+          return running == 0 || (spec.batch > 0 && static_cast<int>(queue.size()) >= spec.batch);
+        });
+        workers_done = running == 0;
+        batch.insert(batch.end(), std::make_move_iterator(queue.begin()),
+                     std::make_move_iterator(queue.end()));
+        queue.clear();
+      }
+      const auto now = std::chrono::steady_clock::now();
+      const bool due =
+          workers_done || (spec.batch > 0 ? static_cast<int>(batch.size()) >= spec.batch
+                                          : now - last_commit >= std::chrono::milliseconds(250));
+      if (due && !batch.empty() && !store_failure) {
+        try {
+          store.commit(batch);
+          committed += static_cast<std::int64_t>(batch.size());
+        } catch (...) {
+          store_failure = std::current_exception();
+          stop.store(true);
+        }
+        batch.clear();
+        last_commit = now;
+      }
+      if (progress && (now - last_report >= std::chrono::milliseconds(250) || workers_done)) {
+        const double elapsed = std::chrono::duration<double>(now - start).count();
+        const double rate = elapsed > 0.0 ? static_cast<double>(committed) / elapsed : 0.0;
+        const std::int64_t done = already + committed;
+        const double left = rate > 0.0 ? static_cast<double>(total - done) / rate : NAN;
+        std::cerr << fmt::format("\ratlas: {}/{} items ({:.1f} %), {:.1f} items/s, {} left   ",
+                                 done, total,
+                                 100.0 * static_cast<double>(done) /
+                                     static_cast<double>(std::max<std::int64_t>(total, 1)),
+                                 rate, duration_text(left))
+                  << std::flush;
+        last_report = now;
+      }
+    }
+    for (std::thread& worker : pool)
+      worker.join();
+    std::signal(SIGINT, previous_int);
+    std::signal(SIGTERM, previous_term);
+    if (progress)
+      std::cerr << '\n';
+    if (store_failure)
+      std::rethrow_exception(store_failure);
+    if (failure)
+      std::rethrow_exception(failure);
+    const double elapsed =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const std::int64_t done = already + committed;
+    if (g_interrupted.load() && done < total) {
+      std::cerr << fmt::format(
+          "robomill: interrupted: {} of {} items are in {}; run the same command to resume\n", done,
+          total, spec.store.string());
+      return 130;
+    }
+    if (!options.job.quiet) {
+      std::cout << fmt::format(
+          "atlas: {} items computed in {:.2f} s on {} threads ({:.1f} items/s); {} were already "
+          "in the store; {} of {} done → {}\n",
+          committed, elapsed, threads,
+          elapsed > 0.0 ? static_cast<double>(committed) / elapsed : 0.0, already, done, total,
+          spec.store.string());
+    }
+    return 0;
+  } catch (const atlas::StoreMismatch& mismatch) {
+    throw InputError("atlas.store", 0, mismatch.what());
+  }
+}
+
+}  // namespace robomill::app
