@@ -357,7 +357,7 @@ TEST(JobValidation, UnknownKeys) {
                "unknown key; expected one of: name, tool, cutting, process, forces, dynamics, "
                "stability, experiments, robot, output, ");
   expect_error("name: a\nprocesss:\n  ap: 1\n", "processs", 2, "(did you mean 'process'?)");
-  expect_error("simulation:\n  duration: 1 s\n", "simulation", 1,
+  expect_error("surface:\n  grid: [10, 10]\n", "surface", 1,
                "section not supported by this version of robomill");
   expect_error("robot:\n  dh: []\n", "robot.dh", 2, "one row {a, alpha, d, theta} per joint");
   expect_error("dynamics:\n  postures: []\n", "dynamics.postures", 2,
