@@ -35,7 +35,6 @@ int run_fit_modes(const JobCommandOptions& options);
 int run_robot(const JobCommandOptions& options);
 int run_deflection(const JobCommandOptions& options);
 int run_optimize(const JobCommandOptions& options);
-int run_simulate(const JobCommandOptions& options);
 int run_advise(const JobCommandOptions& options);
 int run_simulate(const JobCommandOptions& options);
 

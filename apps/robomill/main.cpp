@@ -105,14 +105,6 @@ int main(int argc, char** argv) {
       "advice.json, summary.json, advice_map.csv, redundancy.csv",
       advise_options);
 
-  robomill::app::JobCommandOptions simulate_options;
-  CLI::App* simulate = add_job_command(
-      app, "simulate",
-      "nonlinear regenerative time-domain simulation with material removal (002 §3): forces and "
-      "tool displacement, static deviation, overshoot, settling, first frequency, chatter → "
-      "timeseries.csv, spectrum.csv, summary.json",
-      simulate_options);
-
   robomill::app::IdentifyOptions identify_options;
   CLI::App* identify = app.add_subcommand(
       "identify-cutting",

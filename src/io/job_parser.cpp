@@ -1857,7 +1857,7 @@ Job read_job(const YAML::Node& root_node, const std::filesystem::path& source,
   SectionReader root(root_node, "", root_line, provenance);
   root.allow({"name", "tool", "cutting", "process", "forces", "dynamics", "stability",
               "experiments", "robot", "output", "workpiece", "path", "optimize", "advise",
-              "deflection", "simulation", "atlas", "simulation"},
+              "deflection", "simulation", "atlas"},
              {"surface"},
              "section not supported by this version of robomill");
   Job job;

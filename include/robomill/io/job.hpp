@@ -262,7 +262,6 @@ struct Job {
   std::optional<AdviseSettings> advise;        ///< `advise:`
   std::optional<SimulationSettings> simulation;  ///< `simulation:`
   std::optional<atlas::AtlasSpec> atlas;         ///< `atlas:` (docs/atlas.md)
-  std::optional<SimulationSettings> simulation;  ///< `simulation:`
   OutputSettings output;
 
   /// Resolves a path written in the job relative to the job file's folder.
