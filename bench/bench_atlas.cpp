@@ -2,7 +2,8 @@
 // compliance, joint-space modes, a zero-order stability diagram over 100
 // spindle speeds) on 1 and 2 threads, items dealt dynamically from an atomic
 // counter as `robomill atlas` does, on examples/003_kr270_atlas.yaml (75
-// items). Parallel efficiency at 2 = rate(2) / (2 rate(1)).
+// items). Parallel efficiency at 2 = rate(2) / (2 rate(1)). Also the store's
+// commit throughput (results rows per second in batches of 1000).
 
 #include <benchmark/benchmark.h>
 
@@ -12,6 +13,7 @@
 #include <vector>
 
 #include "robomill/atlas/atlas.hpp"
+#include "robomill/atlas/store.hpp"
 #include "robomill/io/job.hpp"
 
 namespace {
@@ -54,5 +56,35 @@ void BM_AtlasItems(benchmark::State& state) {
       benchmark::Counter(static_cast<double>(state.iterations() * n), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_AtlasItems)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_StoreCommit(benchmark::State& state) {
+  atlas::AtlasSpec spec;
+  spec.counts = {1000, 1000, 1};
+  const std::filesystem::path file =
+      std::filesystem::temp_directory_path() / "robomill_bench_atlas.sqlite";
+  for (const char* suffix : {"", "-wal"})
+    std::filesystem::remove(file.string() + suffix);
+  atlas::StoreIdentity identity;
+  identity.job_text = "bench";
+  identity.job_hash = atlas::fnv1a_hex(identity.job_text);
+  identity.dof = 6;
+  atlas::AtlasStore store(file, identity, spec, false);
+  atlas::AtlasResult r;
+  r.reachable = true;
+  r.q = Eigen::VectorXd::Constant(6, 0.5);
+  std::vector<std::pair<std::int64_t, atlas::AtlasResult>> batch;
+  std::int64_t next = 0;
+  for (auto _ : state) {
+    batch.clear();
+    for (int i = 0; i < 1000 && next < 1000000; ++i)
+      batch.emplace_back(next++, r);
+    store.commit(batch);
+  }
+  state.counters["rows_per_s"] = benchmark::Counter(static_cast<double>(state.iterations() * 1000),
+                                                    benchmark::Counter::kIsRate);
+  for (const char* suffix : {"", "-wal"})
+    std::filesystem::remove(file.string() + suffix);
+}
+BENCHMARK(BM_StoreCommit)->Unit(benchmark::kMillisecond)->Iterations(200)->UseRealTime();
 
 }  // namespace

@@ -52,7 +52,15 @@ cp "$WORK/big.yaml" "$WORK/ref.yaml"
 sed -i "s|store: .*|store: ref.sqlite|" "$WORK/ref.yaml"
 "$ROBOMILL" atlas "$WORK/big.yaml" --threads 1 --quiet &
 pid=$!
-sleep 0.9
+# Wait until a batch of results is committed after the store was created: the
+# write-ahead log grows past the size it had with the job and items alone.
+wal="$WORK/big.sqlite-wal"
+first=0
+for _ in $(seq 1 400); do
+  size=$(stat -c %s "$wal" 2> /dev/null || echo 0)
+  if [ "$first" -eq 0 ]; then first=$size; elif [ "$size" -gt "$first" ]; then break; fi
+  sleep 0.05
+done
 # While it runs the store is locked: a second run is refused with the path.
 expect 1 "locked" atlas "$WORK/big.yaml" --threads 1
 kill -9 "$pid" 2> /dev/null
