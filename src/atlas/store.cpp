@@ -39,7 +39,7 @@ CREATE TABLE results(
 /// A prepared statement, finalized on scope exit.
 class Statement {
  public:
-  Statement(sqlite3* db, const char* sql) : db_(db) {
+  Statement(sqlite3* db, const char* sql) {
     code_ = sqlite3_prepare_v2(db, sql, -1, &statement_, nullptr);
   }
   ~Statement() { sqlite3_finalize(statement_); }
@@ -49,7 +49,6 @@ class Statement {
   sqlite3_stmt* get() const { return statement_; }
 
  private:
-  sqlite3* db_;
   sqlite3_stmt* statement_ = nullptr;
   int code_ = SQLITE_OK;
 };
