@@ -371,6 +371,19 @@ int dealer_rank(const AtlasOptions& options, const atlas::AtlasContext& context,
     }
     local_done.store(true);
   });
+  // If the dealer loop throws (a failed commit), stop and join the thread
+  // before the exception leaves: a joinable std::thread would terminate.
+  struct JoinOnExit {
+    std::thread& thread;
+    std::atomic<std::size_t>& next;
+    std::size_t end;
+    ~JoinOnExit() {
+      if (thread.joinable()) {
+        next.store(end);
+        thread.join();
+      }
+    }
+  } join_on_exit{own, next, pending.size()};
   int active = ranks - 1;
   std::vector<double> in;
   std::vector<std::int64_t> chunk;
