@@ -60,10 +60,13 @@ MillingForceModel::MillingForceModel(const tool::Tool& tool, const CuttingLaw& l
       const double radius_j = tool.edge_radius_with_runout_m(j, element.height_m);
       pair.lever_m = radius_j;
       pair.min_offset_index = static_cast<int>(radius_steps_m_.size());
-      // r_j − r_{j−i}: how much further tooth j reaches than the tooth that cut
-      // i tooth periods earlier (runout chip thickness, Kline & DeVor).
+      // r_j − r_{j+i}: how much further tooth j reaches than the tooth that cut
+      // i tooth periods earlier (runout chip thickness, Kline & DeVor). Edge j
+      // sits at θ + 2πj/N, so tooth j + 1 leads: it passes any workpiece angle
+      // one tooth period before tooth j (the simulator's swept surface agrees,
+      // tests/simulation).
       for (int i = 1; i <= teeth; ++i) {
-        const int earlier = ((j - i) % teeth + teeth) % teeth;
+        const int earlier = (j + i) % teeth;
         radius_steps_m_.push_back(radius_j -
                                   tool.edge_radius_with_runout_m(earlier, element.height_m));
       }

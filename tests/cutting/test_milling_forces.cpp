@@ -204,6 +204,33 @@ TEST(InstantaneousForce, RunoutChipThicknessAndToothSkipping) {
   }
 }
 
+TEST(InstantaneousForce, RunoutChipComesFromTheLeadingTooth) {
+  // Three straight teeth, runout along tooth 2: edge j sits at θ + 2πj/3, so
+  // tooth j + 1 passes a workpiece angle one tooth period before tooth j and
+  // left the surface tooth j cuts: h_j = fz + r_j − r_{j+1} (tooth 1 cuts
+  // behind the long tooth 2, tooth 2 behind the short tooth 0). Slot, φ = 90°.
+  const double fz = 0.05e-3, ap = 1e-3, offset = 0.01e-3;
+  tool::ToolSpec spec;
+  spec.diameter_m = 10e-3;
+  spec.teeth = 3;
+  spec.overhang_m = 40e-3;
+  spec.runout = {offset, 4.0 * kPi / 3.0};
+  const tool::Tool cutter(spec);
+  const cutting::LinearLaw shear_only{1000e6, 0.0, 0.0, 0.0, 0.0, 0.0};
+  const cutting::MillingForceModel model(cutter, shear_only,
+                                         {1000.0, fz, ap, 10e-3, MillingDirection::down}, 1);
+  const double r[3] = {cutter.edge_radius_with_runout_m(0, 0.0),
+                       cutter.edge_radius_with_runout_m(1, 0.0),
+                       cutter.edge_radius_with_runout_m(2, 0.0)};
+  ASSERT_GT(r[2], r[0] + 1e-6);
+  for (int j = 0; j < 3; ++j) {
+    // Tooth j at φ = 90°; the others sit at 210° and 330°, outside the slot's [0°, 180°].
+    const double rotation = kPi / 2.0 - 2.0 * kPi * j / 3.0;
+    const double expected = fz + r[j] - r[(j + 1) % 3];
+    EXPECT_NEAR(model.at(rotation).force_n.y() / (1000e6 * ap), expected, 1e-12) << "tooth " << j;
+  }
+}
+
 TEST(InstantaneousForce, BallEndAxialForceFromNormalComponents) {
   // A ball-end element at κ has radial force with an axial share cos κ
   // (001 Eq 11): with only Krc and one element, Fz / |Fxy| = cos κ / sin κ.
