@@ -187,8 +187,8 @@ int main(int argc, char** argv) {
       "natural frequency, min/max stable depth; thread-parallel, resumable SQLite store "
       "(atlas.store); --export OUT writes atlas.csv, summary.json",
       atlas_options.job, false);
-  atlas_command->add_option("--threads", atlas_options.job.threads,
-                            "worker threads (default: all cores)")
+  atlas_command
+      ->add_option("--threads", atlas_options.job.threads, "worker threads (default: all cores)")
       ->check(CLI::NonNegativeNumber);
   atlas_command->add_option("--export", atlas_options.export_dir,
                             "write atlas.csv and summary.json from the store into this folder "

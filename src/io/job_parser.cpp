@@ -21,15 +21,15 @@
 #include <unordered_map>
 #include <variant>
 
+#include "job_parser_atlas.hpp"
+#include "job_parser_deflection.hpp"
+#include "job_parser_planning.hpp"
+#include "job_parser_simulation.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/io/job.hpp"
 #include "robomill/io/units.hpp"
 #include "text.hpp"
 #include "yaml_reader.hpp"
-#include "job_parser_atlas.hpp"
-#include "job_parser_deflection.hpp"
-#include "job_parser_planning.hpp"
-#include "job_parser_simulation.hpp"
 
 namespace robomill::io {
 namespace detail {
@@ -1858,8 +1858,7 @@ Job read_job(const YAML::Node& root_node, const std::filesystem::path& source,
   root.allow({"name", "tool", "cutting", "process", "forces", "dynamics", "stability",
               "experiments", "robot", "output", "workpiece", "path", "optimize", "advise",
               "deflection", "simulation", "atlas"},
-             {"surface"},
-             "section not supported by this version of robomill");
+             {"surface"}, "section not supported by this version of robomill");
   Job job;
   job.source = source;
   job.name = root.optional_text("name").value_or("");
@@ -1873,10 +1872,10 @@ Job read_job(const YAML::Node& root_node, const std::filesystem::path& source,
   resolve_posture_library(job);
   job.stability = read_stability(root, job.tool, job.modes, job.dynamics_source);
   job.experiments = read_experiments(root);
-  detail::read_planning(root, job);  // workpiece, path, optimize (job_parser_planning.cpp)
+  detail::read_planning(root, job);    // workpiece, path, optimize (job_parser_planning.cpp)
   detail::read_simulation(root, job);  // simulation (job_parser_simulation.cpp)
   detail::read_deflection(root, job);  // 000 §2-4 (job_parser_deflection.cpp)
-  detail::read_atlas(root, job);  // issue 11 (job_parser_atlas.cpp)
+  detail::read_atlas(root, job);       // issue 11 (job_parser_atlas.cpp)
   job.output = read_output(root);
   root.finish();
   return job;

@@ -24,6 +24,8 @@ inline stability::RegenerativeModel benchmark_1dof(double radial_immersion) {
   return stability::RegenerativeModel(tool::Tool(spec), law, process, modes);
 }
 
-inline double rpm(double value) { return value * 2.0 * std::numbers::pi / 60.0; }
+inline double rpm(double value) {
+  return value * 2.0 * std::numbers::pi / 60.0;
+}
 
 }  // namespace robomill::test

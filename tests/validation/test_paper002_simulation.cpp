@@ -88,7 +88,7 @@ struct Simulated {
 };
 
 Simulated run(const io::Job& job, const simulation::LinearStructure& structure, double duration_s,
-        int steps_per_tooth = 20) {
+              int steps_per_tooth = 20) {
   const tool::Tool tool(*job.tool);
   simulation::SimulationOptions options;
   options.duration_s = duration_s;

@@ -29,7 +29,8 @@ void parallel_blocks(std::size_t count, int threads, Block&& block) {
   const std::size_t workers =
       std::min<std::size_t>(static_cast<std::size_t>(resolve_thread_count(threads)), count);
   if (workers <= 1) {
-    if (count > 0) block(std::size_t{0}, count);
+    if (count > 0)
+      block(std::size_t{0}, count);
     return;
   }
   std::exception_ptr failure;
@@ -44,12 +45,15 @@ void parallel_blocks(std::size_t count, int threads, Block&& block) {
         block(begin, end);
       } catch (...) {
         const std::lock_guard lock(failure_mutex);
-        if (!failure) failure = std::current_exception();
+        if (!failure)
+          failure = std::current_exception();
       }
     });
   }
-  for (std::thread& worker : pool) worker.join();
-  if (failure) std::rethrow_exception(failure);
+  for (std::thread& worker : pool)
+    worker.join();
+  if (failure)
+    std::rethrow_exception(failure);
 }
 
 /// Calls body(i) for i in [0, count) on up to `threads` threads in contiguous
@@ -58,7 +62,8 @@ void parallel_blocks(std::size_t count, int threads, Block&& block) {
 template <class Body>
 void parallel_for(std::size_t count, int threads, Body&& body) {
   parallel_blocks(count, threads, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin; i < end; ++i) body(i);
+    for (std::size_t i = begin; i < end; ++i)
+      body(i);
   });
 }
 

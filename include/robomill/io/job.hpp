@@ -127,7 +127,7 @@ struct StabilitySettings {
   /// `deformation`: also the diagrams with 000's deformation-corrected
   /// engagement (and with process damping, when given): 000 Figures 12-13.
   bool deformation = false;
-  int discretization = 40;        ///< `discretization`: steps per tooth period (SDM/FDM)
+  int discretization = 40;  ///< `discretization`: steps per tooth period (SDM/FDM)
   /// `process_damping: {model: linear_equivalent|energy_balance, Ksp, wear_land, mu}`
   /// (000 Eq 18-19; 003 §3.1). Ksp in N/m^3, wear_land in um, mu dimensionless.
   enum class Damping { none, linear_equivalent, energy_balance };
@@ -184,8 +184,8 @@ struct SimulationSettings {
   Model model = Model::modes;
   std::string model_name = "modes";
   Eigen::MatrixXd mass_kg, damping_n_s_per_m, stiffness_n_per_m;  ///< fixation (n×n)
-  double damping_ratio = 0.0;  ///< reduced6d: ζ of modes the robot leaves undamped
-  double duration_s = 0.0;     ///< `duration`, or `revolutions` converted
+  double damping_ratio = 0.0;             ///< reduced6d: ζ of modes the robot leaves undamped
+  double duration_s = 0.0;                ///< `duration`, or `revolutions` converted
   std::string duration_key = "duration";  ///< the key the user gave it by
   int steps_per_tooth = 40;
   int axial_elements = 0;  ///< 0: as `forces` (helix lag ≤ 0.5° per element)
@@ -254,12 +254,12 @@ struct Job {
   } dynamics_source = DynamicsSource::table;
   std::optional<PostureLibrary> posture_library;  ///< `dynamics.postures`
   std::vector<Experiment> experiments;
-  std::optional<RobotSettings> robot;          ///< `robot:`
-  std::optional<WorkpieceSettings> workpiece;  ///< `workpiece:`
-  std::vector<planning::PathPoint> path;       ///< `path:` (workpiece frame)
+  std::optional<RobotSettings> robot;            ///< `robot:`
+  std::optional<WorkpieceSettings> workpiece;    ///< `workpiece:`
+  std::vector<planning::PathPoint> path;         ///< `path:` (workpiece frame)
   std::optional<DeflectionSettings> deflection;  ///< `deflection:` (000 §2, §4)
-  std::optional<OptimizeSettings> optimize;    ///< `optimize:`
-  std::optional<AdviseSettings> advise;        ///< `advise:`
+  std::optional<OptimizeSettings> optimize;      ///< `optimize:`
+  std::optional<AdviseSettings> advise;          ///< `advise:`
   std::optional<SimulationSettings> simulation;  ///< `simulation:`
   std::optional<atlas::AtlasSpec> atlas;         ///< `atlas:` (docs/atlas.md)
   OutputSettings output;
