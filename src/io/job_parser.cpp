@@ -25,6 +25,7 @@
 #include "job_parser_deflection.hpp"
 #include "job_parser_planning.hpp"
 #include "job_parser_simulation.hpp"
+#include "quantity_fields.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/io/job.hpp"
 #include "robomill/io/units.hpp"
@@ -548,39 +549,22 @@ using detail::Bound;
 using detail::Provenance;
 using detail::QuantityField;
 using detail::SectionReader;
-
-constexpr double kPi = std::numbers::pi;
+// Units and field builders shared with the section parsers in their own files.
+using detail::dimensionless;
+using detail::field;
+using detail::kDeg;
+using detail::kMm;
+using detail::kNonNegative;
+using detail::kPi;
+using detail::kPositive;
+using detail::kRpm;
+using detail::length_mm;
 
 // Documented units of the fields (DESIGN.md §3): bare numbers are read in them.
-constexpr double kMm = 1e-3;
-constexpr double kDeg = kPi / 180.0;
-constexpr double kRpm = 2.0 * kPi / 60.0;
 constexpr double kGPa = 1e9;
 constexpr double kNPerMm2 = 1e6;
 constexpr double kNPerMm = 1e3;
 constexpr double kMmPerMin = 1e-3 / 60.0;
-
-constexpr Bound kPositive{0.0, false};
-constexpr Bound kNonNegative{0.0, true};
-
-QuantityField field(Dimension dimension, double unit_si, std::string_view unit,
-                    std::optional<Bound> min = {}, std::optional<Bound> max = {}) {
-  QuantityField result;
-  result.dimension = dimension;
-  result.unit_si = unit_si;
-  result.unit = unit;
-  result.min = min;
-  result.max = max;
-  return result;
-}
-
-QuantityField length_mm(std::optional<Bound> min = kPositive, std::optional<Bound> max = {}) {
-  return field(dimensions::length, kMm, "mm", min, max);
-}
-
-QuantityField dimensionless(std::optional<Bound> min = {}, std::optional<Bound> max = {}) {
-  return field(dimensions::none, 1.0, "", min, max);
-}
 
 // Cheap guards run before yaml-cpp sees the text. yaml-cpp parses nested
 // collections recursively; pathological nesting ("[[[[...", "- - - - ...")

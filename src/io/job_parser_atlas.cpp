@@ -4,6 +4,7 @@
 // window of the stability analysis (rpm, mm) and the SQLite store.
 
 #include "job_parser_atlas.hpp"
+#include "quantity_fields.hpp"
 
 #include <fmt/format.h>
 
@@ -13,22 +14,8 @@
 namespace robomill::io::detail {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
-constexpr double kRpm = 2.0 * std::numbers::pi / 60.0;
-constexpr Bound kPositive{0.0, false};
-
-QuantityField make(Dimension dimension, double unit_si, std::string_view unit,
-                   std::optional<Bound> min = {}) {
-  QuantityField f;
-  f.dimension = dimension;
-  f.unit_si = unit_si;
-  f.unit = unit;
-  f.min = min;
-  return f;
-}
-
 Eigen::Vector3d direction(SectionReader& r, std::string_view key, const Eigen::Vector3d& fallback) {
-  const auto v = r.quantities(key, make(dimensions::none, 1.0, ""), 3);
+  const auto v = r.quantities(key, field(dimensions::none, 1.0, ""), 3);
   if (!v)
     return fallback;
   const Eigen::Vector3d d((*v)[0], (*v)[1], (*v)[2]);
@@ -47,8 +34,8 @@ void read_atlas(SectionReader& root, Job& job) {
   r.allow({"grid", "tool_axis", "feed", "redundancy", "analyses", "speeds", "depth_max", "store",
            "batch"});
   atlas::AtlasSpec spec;
-  const QuantityField mm = make(dimensions::length, 1e-3, "mm");
-  const QuantityField deg = make(dimensions::angle, kDeg, "deg");
+  const QuantityField mm = field(dimensions::length, 1e-3, "mm");
+  const QuantityField deg = field(dimensions::angle, kDeg, "deg");
 
   auto grid = r.section("grid");
   if (!grid)
@@ -136,7 +123,7 @@ void read_atlas(SectionReader& root, Job& job) {
     if (!speeds)
       r.fail("speeds", "required with the stability analysis: {from, to, count} (rpm)");
     speeds->allow({"from", "to", "count"});
-    const QuantityField rpm = make(dimensions::angular_speed, kRpm, "rpm", kPositive);
+    const QuantityField rpm = field(dimensions::angular_speed, kRpm, "rpm", kPositive);
     spec.speed_from_rad_s = speeds->quantity("from", rpm);
     spec.speed_count = speeds->integer("count", 1, 100000);
     spec.speed_to_rad_s = spec.speed_count == 1
@@ -145,7 +132,7 @@ void read_atlas(SectionReader& root, Job& job) {
     if (spec.speed_count > 1 && !(spec.speed_to_rad_s > spec.speed_from_rad_s))
       speeds->fail("to", "must be greater than from");
     speeds->finish();
-    spec.depth_max_m = r.quantity("depth_max", make(dimensions::length, 1e-3, "mm", kPositive));
+    spec.depth_max_m = r.quantity("depth_max", field(dimensions::length, 1e-3, "mm", kPositive));
     if (!job.tool || !job.cutting || !job.process)
       r.fail("analyses", "stability needs the cut: give the tool:, cutting: and process: sections");
     if (spec.depth_max_m > job.tool->overhang_m * (1.0 + 1e-9))

@@ -5,6 +5,7 @@
 // unless written.
 
 #include "job_parser_deflection.hpp"
+#include "quantity_fields.hpp"
 
 #include <fmt/format.h>
 
@@ -24,8 +25,7 @@ void read_deflection(SectionReader& root, Job& job) {
       return;
   }
   DeflectionSettings settings;
-  constexpr Bound kPositive{0.0, false};
-  const QuantityField length{dimensions::length, 1e-3, "mm", kPositive, {}};
+  const QuantityField length = length_mm();
   if (section) {
     SectionReader& r = *section;
     r.allow(

@@ -4,6 +4,7 @@
 // once: lengths in mm and angles in deg unless written.
 
 #include "job_parser_planning.hpp"
+#include "quantity_fields.hpp"
 
 #include <fmt/format.h>
 
@@ -16,29 +17,8 @@
 namespace robomill::io::detail {
 namespace {
 
-constexpr double kMm = 1e-3;
-constexpr double kDeg = std::numbers::pi / 180.0;
-constexpr Bound kPositive{0.0, false};
-
-QuantityField length_mm(std::optional<Bound> min = {}) {
-  QuantityField f;
-  f.dimension = dimensions::length;
-  f.unit_si = kMm;
-  f.unit = "mm";
-  f.min = min;
-  return f;
-}
-
-QuantityField angle_deg() {
-  QuantityField f;
-  f.dimension = dimensions::angle;
-  f.unit_si = kDeg;
-  f.unit = "deg";
-  return f;
-}
-
 Eigen::Vector3d vector3(SectionReader& r, std::string_view key, const Eigen::Vector3d& fallback) {
-  const auto v = r.quantities(key, length_mm(), 3);
+  const auto v = r.quantities(key, length_mm({}), 3);
   return v ? Eigen::Vector3d((*v)[0], (*v)[1], (*v)[2]) : fallback;
 }
 
@@ -46,8 +26,8 @@ Eigen::Vector3d vector3(SectionReader& r, std::string_view key, const Eigen::Vec
 planning::WorkpiecePose read_pose(SectionReader& r) {
   r.allow({"x", "y", "theta"});
   planning::WorkpiecePose pose;
-  pose.x_m = r.quantity_or("x", length_mm(), 0.0);
-  pose.y_m = r.quantity_or("y", length_mm(), 0.0);
+  pose.x_m = r.quantity_or("x", length_mm({}), 0.0);
+  pose.y_m = r.quantity_or("y", length_mm({}), 0.0);
   pose.theta_rad = r.quantity_or("theta", angle_deg(), 0.0);
   r.finish();
   return pose;
@@ -56,11 +36,11 @@ planning::WorkpiecePose read_pose(SectionReader& r) {
 WorkpieceSettings read_workpiece(SectionReader& r) {
   r.allow({"table", "height", "tilt_axis", "pose"});
   WorkpieceSettings settings;
-  const auto table = r.quantities("table", length_mm(), 3);
+  const auto table = r.quantities("table", length_mm({}), 3);
   if (!table)
     r.fail("table", "required: the table origin p_c [x, y, z] in the cell frame (mm)");
   settings.cell.table_origin_m = Eigen::Vector3d((*table)[0], (*table)[1], (*table)[2]);
-  settings.cell.workpiece_height_m = r.quantity_or("height", length_mm(), 0.0);
+  settings.cell.workpiece_height_m = r.quantity_or("height", length_mm({}), 0.0);
   settings.cell.tilt_axis =
       r.choice("tilt_axis", {"x", "y"}, "y") == "x" ? planning::TiltAxis::x : planning::TiltAxis::y;
   if (auto pose = r.section("pose"))
@@ -102,8 +82,8 @@ OptimizeSettings read_optimize(SectionReader& r) {
   if (!bounds)
     r.fail("bounds", "required: {x: [lower, upper], y: [...], theta: [...]} (004 Eq 9)");
   bounds->allow({"x", "y", "theta"});
-  read_range(*bounds, "x", length_mm(), s.bounds.lower.x_m, s.bounds.upper.x_m);
-  read_range(*bounds, "y", length_mm(), s.bounds.lower.y_m, s.bounds.upper.y_m);
+  read_range(*bounds, "x", length_mm({}), s.bounds.lower.x_m, s.bounds.upper.x_m);
+  read_range(*bounds, "y", length_mm({}), s.bounds.lower.y_m, s.bounds.upper.y_m);
   read_range(*bounds, "theta", angle_deg(), s.bounds.lower.theta_rad, s.bounds.upper.theta_rad);
   bounds->finish();
   if (auto variables = r.texts("variables")) {

@@ -6,6 +6,7 @@
 // kg, stiffness in N/m and damping in N·s/m unless written.
 
 #include "job_parser_simulation.hpp"
+#include "quantity_fields.hpp"
 
 #include <fmt/format.h>
 
@@ -15,21 +16,6 @@
 
 namespace robomill::io::detail {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
-constexpr Bound kPositive{0.0, false};
-constexpr Bound kNonNegative{0.0, true};
-
-QuantityField quantity_field(Dimension dimension, double unit_si, std::string_view unit,
-                             std::optional<Bound> min = {}, std::optional<Bound> max = {}) {
-  QuantityField f;
-  f.dimension = dimension;
-  f.unit_si = unit_si;
-  f.unit = unit;
-  f.min = min;
-  f.max = max;
-  return f;
-}
 
 constexpr Dimension kDampingDimension{0, 1, -1, 0};  // N·s/m = kg/s
 
@@ -62,9 +48,8 @@ Eigen::MatrixXd read_matrix(SectionReader& r, std::string_view key, const Quanti
 
 void read_fixation(SectionReader& r, SimulationSettings& s, int n) {
   r.allow({"mass", "stiffness", "damping", "damping_ratio"});
-  s.mass_kg = read_matrix(r, "mass", quantity_field(dimensions::mass, 1.0, "kg", kNonNegative), n);
-  s.stiffness_n_per_m =
-      read_matrix(r, "stiffness", quantity_field(dimensions::stiffness, 1.0, "N/m"), n);
+  s.mass_kg = read_matrix(r, "mass", field(dimensions::mass, 1.0, "kg", kNonNegative), n);
+  s.stiffness_n_per_m = read_matrix(r, "stiffness", field(dimensions::stiffness, 1.0, "N/m"), n);
   const bool ratio = r.has("damping_ratio"), matrix = r.has("damping");
   if (ratio == matrix)
     r.fail(matrix ? "damping_ratio" : "damping",
@@ -72,12 +57,10 @@ void read_fixation(SectionReader& r, SimulationSettings& s, int n) {
                  : "required: damping (N*s/m, 002's C) or damping_ratio (zeta, C_ii = 2 zeta "
                    "sqrt(K_ii M_ii))");
   if (matrix) {
-    s.damping_n_s_per_m =
-        read_matrix(r, "damping", quantity_field(kDampingDimension, 1.0, "N*s/m"), n);
+    s.damping_n_s_per_m = read_matrix(r, "damping", field(kDampingDimension, 1.0, "N*s/m"), n);
   } else {
-    const double zeta =
-        r.quantity("damping_ratio",
-                   quantity_field(dimensions::none, 1.0, "", kNonNegative, Bound{1.0, false}));
+    const double zeta = r.quantity(
+        "damping_ratio", field(dimensions::none, 1.0, "", kNonNegative, Bound{1.0, false}));
     // 002 §3.3-3.4: C_ii = 2 ζ √(K_ii M_ii).
     s.damping_n_s_per_m = Eigen::MatrixXd::Zero(n, n);
     for (int i = 0; i < n; ++i)
@@ -134,8 +117,8 @@ void read_simulation(SectionReader& root, Job& job) {
     r.fail_here("required: duration (s) or revolutions (spindle revolutions to simulate)");
   if (by_time) {
     s.duration_line = r.line_of("duration");
-    s.duration_s = r.quantity(
-        "duration", quantity_field(dimensions::time, 1.0, "s", kPositive, Bound{3600.0, true}));
+    s.duration_s =
+        r.quantity("duration", field(dimensions::time, 1.0, "s", kPositive, Bound{3600.0, true}));
   } else {
     s.duration_line = r.line_of("revolutions");
     s.duration_key = "revolutions";
@@ -146,7 +129,7 @@ void read_simulation(SectionReader& root, Job& job) {
   s.axial_elements = r.integer_or("axial_elements", 1, 2000, 0);
   s.record_every = r.integer_or("record_every", 1, 1'000'000, 1);
   s.start_angle_rad =
-      r.quantity_or("start_angle", quantity_field(dimensions::angle, kPi / 180.0, "deg"), 0.0);
+      r.quantity_or("start_angle", field(dimensions::angle, kPi / 180.0, "deg"), 0.0);
   // Memory guard: about 100 bytes per recorded step.
   const double tooth_period_s = revolution_s / job.tool->teeth;
   const double steps = s.duration_s / tooth_period_s * s.steps_per_tooth;
@@ -175,15 +158,14 @@ void read_simulation(SectionReader& root, Job& job) {
            "use model: rigid, 1dof, 2dof, 3dof or reduced6d");
   if (s.model == SimulationSettings::Model::reduced6d && !job.robot)
     r.fail("model", "reduced6d needs a robot: section with a posture");
-  s.damping_ratio =
-      r.quantity_or("damping_ratio",
-                    quantity_field(dimensions::none, 1.0, "", kPositive, Bound{1.0, false}), 0.0);
+  s.damping_ratio = r.quantity_or(
+      "damping_ratio", field(dimensions::none, 1.0, "", kPositive, Bound{1.0, false}), 0.0);
 
   if (auto workpiece = r.section("workpiece")) {
     workpiece->allow({"border"});
     s.border_line = workpiece->line_of("border");
     s.border_gap_m =
-        workpiece->quantity("border", quantity_field(dimensions::length, 1e-3, "mm", kNonNegative));
+        workpiece->quantity("border", field(dimensions::length, 1e-3, "mm", kNonNegative));
     workpiece->finish();
   }
 
@@ -201,12 +183,11 @@ void read_simulation(SectionReader& root, Job& job) {
   if (auto damping = r.section("process_damping")) {
     damping->allow({"Ksp", "wear_land", "mu"});
     s.process_damping = true;
-    s.indentation_n_per_m3 = damping->quantity(
-        "Ksp", quantity_field(dimensions::force_per_volume, 1.0, "N/m^3", kPositive));
+    s.indentation_n_per_m3 =
+        damping->quantity("Ksp", field(dimensions::force_per_volume, 1.0, "N/m^3", kPositive));
     s.wear_land_m =
-        damping->quantity("wear_land", quantity_field(dimensions::length, 1e-6, "um", kPositive));
-    s.friction =
-        damping->quantity_or("mu", quantity_field(dimensions::none, 1.0, "", kNonNegative), 0.0);
+        damping->quantity("wear_land", field(dimensions::length, 1e-6, "um", kPositive));
+    s.friction = damping->quantity_or("mu", field(dimensions::none, 1.0, "", kNonNegative), 0.0);
     damping->finish();
   }
   r.finish();
