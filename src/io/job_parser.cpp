@@ -538,6 +538,33 @@ std::optional<std::vector<SectionReader::Item>> SectionReader::texts(std::string
   return items;
 }
 
+std::optional<std::vector<int>> SectionReader::integers(std::string_view key, std::size_t count,
+                                                        int min, int max) {
+  const auto items = texts(key);
+  if (!items)
+    return std::nullopt;
+  if (items->size() != count)
+    fail(key, fmt::format("expected {} integers, got {}", count, items->size()));
+  std::vector<int> values;
+  for (const Item& item : *items) {
+    int value = 0;
+    try {
+      std::size_t used = 0;
+      value = std::stoi(item.text, &used);
+      if (used != item.text.size())
+        throw std::invalid_argument(item.text);
+    } catch (const std::exception&) {
+      throw InputError(item.path, item.line, "'" + item.text + "' is not an integer");
+    }
+    if (value < min || value > max) {
+      throw InputError(item.path, item.line,
+                       fmt::format("must lie in {} … {}, got {}", min, max, value));
+    }
+    values.push_back(value);
+  }
+  return values;
+}
+
 }  // namespace detail
 
 // ===========================================================================
@@ -1564,25 +1591,9 @@ RobotSettings read_robot_section(SectionReader& r, const std::filesystem::path& 
       map->fail("to", "required: the grid's opposite corner [x, y, z]");
     grid.from_m = Eigen::Vector3d((*from)[0], (*from)[1], (*from)[2]);
     grid.to_m = Eigen::Vector3d((*to)[0], (*to)[1], (*to)[2]);
-    if (auto counts = map->texts("counts")) {
-      if (counts->size() != 3)
-        map->fail("counts", "expected three point counts [nx, ny, nz]");
-      for (int i = 0; i < 3; ++i) {
-        const auto& item = (*counts)[static_cast<std::size_t>(i)];
-        int value = 0;
-        try {
-          std::size_t used = 0;
-          value = std::stoi(item.text, &used);
-          if (used != item.text.size())
-            throw std::invalid_argument(item.text);
-        } catch (const std::exception&) {
-          throw InputError(item.path, item.line, "'" + item.text + "' is not an integer");
-        }
-        if (value < 1 || value > 1000)
-          throw InputError(item.path, item.line, "a point count must lie in 1 … 1000");
-        grid.counts[static_cast<std::size_t>(i)] = value;
-      }
-    }
+    // [nx, ny, nz] point counts.
+    if (auto counts = map->integers("counts", 3, 1, 1000))
+      std::copy(counts->begin(), counts->end(), grid.counts.begin());
     if (static_cast<long>(grid.counts[0]) * grid.counts[1] * grid.counts[2] > 1000000)
       map->fail("counts", "more than 1 000 000 grid points");
     grid.tool_axis = read_direction(*map, "tool_axis", grid.tool_axis);

@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -49,27 +50,10 @@ void read_atlas(SectionReader& root, Job& job) {
     grid->fail("to", "required: the grid's opposite corner [x, y, z]");
   spec.from_m = {(*from)[0], (*from)[1], (*from)[2]};
   spec.to_m = {(*to)[0], (*to)[1], (*to)[2]};
-  if (auto counts = grid->texts("counts")) {
-    if (counts->size() != 3)
-      grid->fail("counts", "expected three point counts [nx, ny, nz]");
-    for (std::size_t i = 0; i < 3; ++i) {
-      const auto& item = (*counts)[i];
-      int value = 0;
-      try {
-        std::size_t used = 0;
-        value = std::stoi(item.text, &used);
-        if (used != item.text.size())
-          throw std::invalid_argument(item.text);
-      } catch (const std::exception&) {
-        throw InputError(item.path, item.line, "'" + item.text + "' is not an integer");
-      }
-      if (value < 1 || value > 100000)
-        throw InputError(item.path, item.line, "a point count must lie in 1 … 100000");
-      spec.counts[i] = value;
-    }
-  } else {
+  const auto counts = grid->integers("counts", 3, 1, 100000);
+  if (!counts)
     grid->fail("counts", "required: point counts [nx, ny, nz]");
-  }
+  std::copy(counts->begin(), counts->end(), spec.counts.begin());
   grid->finish();
 
   spec.tool_axis = direction(r, "tool_axis", spec.tool_axis);

@@ -120,6 +120,10 @@ class SectionReader {
     int line = 0;
   };
   std::optional<std::vector<Item>> texts(std::string_view key);
+  /// A list of exactly `count` integers in [min, max] (`counts: [4, 3, 1]`),
+  /// each error naming the element; nullopt when the key is absent.
+  std::optional<std::vector<int>> integers(std::string_view key, std::size_t count, int min,
+                                           int max);
 
   /// Reports any key that was not read (see the class comment).
   void finish();
