@@ -105,12 +105,13 @@ ResponseMetrics analyze_response(const SimulationResult& result, const ResponseO
       d.settling_time_s = std::max(0.0, settled_at - contact_s);
     }
 
-    // First frequency: spectral peak below half the spindle frequency.
+    // First frequency: a resonance below half the spindle frequency (none
+    // when the direction's modes all lie above it).
     if (end - analysis_from >= 8) {
       const std::vector<double> after = component(result.displacement_m, axis, analysis_from, end);
       const AmplitudeSpectrum spectrum = amplitude_spectrum(after, dt, 8);
       d.first_frequency_hz =
-          peak_frequency_hz(spectrum, 1.5 * spectrum.resolution_hz, 0.5 * spindle_hz);
+          resonance_frequency_hz(spectrum, 1.5 * spectrum.resolution_hz, 0.5 * spindle_hz);
     }
 
     // Chatter evidence 1: energy away from the forced harmonics.

@@ -69,7 +69,11 @@ AmplitudeSpectrum amplitude_spectrum(const std::vector<double>& samples, double 
   return spectrum;
 }
 
-double peak_frequency_hz(const AmplitudeSpectrum& spectrum, double low_hz, double high_hz) {
+namespace {
+
+/// Index of the largest amplitude among the bins in [low_hz, high_hz] that
+/// have a neighbour on each side; size() when there is none.
+std::size_t largest_bin(const AmplitudeSpectrum& spectrum, double low_hz, double high_hz) {
   const auto& f = spectrum.frequency_hz;
   const auto& a = spectrum.amplitude;
   std::size_t best = f.size();
@@ -79,8 +83,13 @@ double peak_frequency_hz(const AmplitudeSpectrum& spectrum, double low_hz, doubl
     if (best == f.size() || a[k] > a[best])
       best = k;
   }
-  if (best == f.size() || !(a[best] > 0.0))
-    return 0.0;
+  return best;
+}
+
+/// The peak at bin `best` refined by a parabola through log amplitudes.
+double refined_peak_hz(const AmplitudeSpectrum& spectrum, std::size_t best) {
+  const auto& f = spectrum.frequency_hz;
+  const auto& a = spectrum.amplitude;
   const double left = std::log(std::max(a[best - 1], 1e-300));
   const double centre = std::log(a[best]);
   const double right = std::log(std::max(a[best + 1], 1e-300));
@@ -88,6 +97,31 @@ double peak_frequency_hz(const AmplitudeSpectrum& spectrum, double low_hz, doubl
   double offset = curvature < 0.0 ? 0.5 * (left - right) / curvature : 0.0;
   offset = std::clamp(offset, -0.5, 0.5);
   return f[best] + offset * (f[1] - f[0]);
+}
+
+}  // namespace
+
+double peak_frequency_hz(const AmplitudeSpectrum& spectrum, double low_hz, double high_hz) {
+  const std::size_t best = largest_bin(spectrum, low_hz, high_hz);
+  if (best == spectrum.frequency_hz.size() || !(spectrum.amplitude[best] > 0.0))
+    return 0.0;
+  return refined_peak_hz(spectrum, best);
+}
+
+double resonance_frequency_hz(const AmplitudeSpectrum& spectrum, double low_hz, double high_hz,
+                              double prominence) {
+  const std::size_t best = largest_bin(spectrum, low_hz, high_hz);
+  const auto& f = spectrum.frequency_hz;
+  const auto& a = spectrum.amplitude;
+  if (best == f.size() || !(a[best] > 0.0))
+    return 0.0;
+  const double floor = a[best] / prominence;
+  bool dip_below = false, dip_above = false;
+  for (std::size_t k = best; k-- > 0 && f[k] >= low_hz;)
+    dip_below = dip_below || a[k] < floor;
+  for (std::size_t k = best + 1; k < f.size() && f[k] <= high_hz; ++k)
+    dip_above = dip_above || a[k] < floor;
+  return dip_below && dip_above ? refined_peak_hz(spectrum, best) : 0.0;
 }
 
 }  // namespace robomill::simulation

@@ -25,4 +25,12 @@ AmplitudeSpectrum amplitude_spectrum(const std::vector<double>& samples, double 
 /// band holds no bin or the spectrum is zero there.
 double peak_frequency_hz(const AmplitudeSpectrum& spectrum, double low_hz, double high_hz);
 
+/// The frequency of a resonance in [low_hz, high_hz]: the band's largest
+/// amplitude, refined as in peak_frequency_hz, but only if it is a hump — the
+/// spectrum falls below 1/prominence of it somewhere on each side within the
+/// band. A maximum at the band's edge is the tail of something outside it (the
+/// leakage of a slow drift, a mode above the band), not a mode: 0 then.
+double resonance_frequency_hz(const AmplitudeSpectrum& spectrum, double low_hz, double high_hz,
+                              double prominence = 2.0);
+
 }  // namespace robomill::simulation
