@@ -136,6 +136,24 @@ void check_settings(const io::Job& job, const io::SimulationSettings& s,
     why = fmt::format("5 steps across the engaged arc of {:.1f} deg",
                       (arc.exit_rad - arc.entry_rad) * 180.0 / std::numbers::pi);
   }
+  // Process damping is applied explicitly: its rate on the lightest direction
+  // bounds the step (simulation::process_damping_step_limit_s).
+  if (s.process_damping) {
+    const double limit_s = simulation::process_damping_step_limit_s(
+        cutter, process, structure,
+        stability::LinearProcessDamping{s.indentation_n_per_m3, s.wear_land_m, s.friction});
+    const double for_damping = std::ceil(tooth_period_s / limit_s * (1.0 + 1e-12));
+    if (for_damping > needed) {
+      if (for_damping > 1e5)
+        throw InputError(field_of("process_damping"), s.line,
+                         fmt::format("the process damping is so strong for this structure that "
+                                     "the step would need to be below {:.3g} s",
+                                     limit_s));
+      needed = static_cast<int>(for_damping);
+      why = fmt::format("the process damping (rate {:.3g} 1/s on the lightest direction)",
+                        1.0 / limit_s);
+    }
+  }
   if (s.steps_per_tooth < needed)
     throw InputError(
         field_of("steps_per_tooth"), s.steps_line ? s.steps_line : s.line,

@@ -4,8 +4,11 @@
 
 #include "robomill/simulation/simulator.hpp"
 
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 
@@ -176,6 +179,33 @@ class CuttingGeometry {
 
 }  // namespace
 
+double process_damping_step_limit_s(const tool::Tool& tool, const cutting::MillingProcess& process,
+                                    const LinearStructure& structure,
+                                    const stability::LinearProcessDamping& damping) {
+  if (structure.rigid())
+    return std::numeric_limits<double>::infinity();
+  // Teeth that can touch the part at once: those within the engaged arc
+  // widened by the helix lag over the depth.
+  const cutting::Engagement arc = cutting::radial_engagement(
+      tool.radius_m(), tool.radius_m(), process.radial_depth_m, process.direction);
+  const double pitch_rad = 2.0 * std::numbers::pi / tool.teeth();
+  const double span_rad =
+      arc.exit_rad - arc.entry_rad + std::abs(tool.lag_angle_rad(process.axial_depth_m));
+  const int contacts =
+      std::min(tool.teeth(), static_cast<int>(std::floor(span_rad / pitch_rad)) + 1);
+  const double damping_n_s_per_m = contacts * damping.indentation_n_per_m3 * damping.wear_land_m *
+                                   damping.wear_land_m * process.axial_depth_m /
+                                   (4.0 * tool.radius_m() * process.spindle_rad_s);
+  // Lᵀ M⁻¹ L: the tool-tip mobility at high frequency (the inverse "mass").
+  const Eigen::Matrix3d inverse_mass =
+      structure.force_input.transpose() * structure.mass.llt().solve(structure.force_input);
+  const double rate = damping_n_s_per_m * Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(
+                                              inverse_mass, Eigen::EigenvaluesOnly)
+                                              .eigenvalues()
+                                              .maxCoeff();
+  return rate > 0.0 ? 1.0 / rate : std::numeric_limits<double>::infinity();
+}
+
 SimulationResult simulate(const tool::Tool& tool, const cutting::CuttingLaw& law,
                           const cutting::MillingProcess& process, const LinearStructure& structure,
                           const Workpiece& workpiece, const SimulationOptions& options) {
@@ -194,6 +224,10 @@ SimulationResult simulate(const tool::Tool& tool, const cutting::CuttingLaw& law
   const long long steps = static_cast<long long>(std::ceil(options.duration_s / step_s - 1e-6));
   if (steps > 200'000'000)
     throw std::invalid_argument("simulate: more than 2e8 steps");
+
+  if (options.process_damping &&
+      step_s > process_damping_step_limit_s(tool, process, structure, *options.process_damping))
+    throw std::invalid_argument("simulate: the step is too coarse for the process damping");
 
   CuttingGeometry geometry(tool, law, process, workpiece, options, step_s);
   const DiscreteStructure d = discretize(structure, step_s);

@@ -53,4 +53,10 @@ expect_exit2 "simulation.fixation.stiffness" simulate "$B" --set simulation.fixa
 # The benchmark's 922 Hz mode at 10000 rpm needs 8 steps per 1.09 ms period.
 expect_exit2 "highest mode" simulate "$SOURCE/examples/benchmark_1dof_005.yaml" \
   --set 'simulation={duration: 0.2 s, steps_per_tooth: 10}' --set process.ae=10
+# Process damping is applied explicitly: strong damping on a light mode needs
+# a fine step (simulation::process_damping_step_limit_s), named with its value.
+expect_exit2 "process damping (rate 2.15e+05 1/s on the lightest direction) needs steps_per_tooth: 4305" \
+  simulate "$SOURCE/examples/benchmark_1dof_005.yaml" --set process.spindle="1500 rpm" \
+  --set process.ap="8 mm" --set 'simulation={duration: 2 s, steps_per_tooth: 200,
+  process_damping: {Ksp: 1.5e14 N/m^3, wear_land: 150 um}}'
 finish

@@ -84,6 +84,19 @@ struct SimulationResult {
   std::size_t size() const noexcept { return time_s.size(); }
 };
 
+/// The largest step for which process damping (000 Eq 19) stays stable in
+/// the time stepping. The damping force −C u̇ is evaluated from the state
+/// (predictor-corrector), i.e. explicitly: like Heun's method on u̇ = −λ u̇ it
+/// diverges for λ Δt > 2, λ = C_max · λmax(Lᵀ M⁻¹ L), the damping rate on the
+/// lightest direction of the structure. C_max bounds the damping with the
+/// whole depth in contact on every tooth that can be inside the engaged arc
+/// (widened by the helix lag) at once: n_c K_sp w² ap / (4 R Ω). The limit
+/// returned is 1/λ (half the divergence limit, so that the damping is also
+/// resolved, not only bounded). Infinity for a rigid structure or no damping.
+double process_damping_step_limit_s(const tool::Tool& tool, const cutting::MillingProcess& process,
+                                    const LinearStructure& structure,
+                                    const stability::LinearProcessDamping& damping);
+
 /// Simulates `options.duration_s` of cutting. Throws std::invalid_argument
 /// for a non-physical process or options (the job parser checks them first
 /// and names the field).
