@@ -173,3 +173,14 @@ def test_threads_give_the_same_numbers(source):
     many = robomill.stability(job, threads=4)
     for column in ("spindle_rpm", "depth_limit_mm", "chatter_freq_hz"):
         np.testing.assert_array_equal(one["sld"][column], many["sld"][column])
+
+
+def test_example_script_runs(source, tmp_path):
+    import os
+    import sys
+    env = dict(os.environ, MPLBACKEND="Agg")
+    process = subprocess.run([sys.executable, str(source / "examples" / "python" /
+                                                  "stability_study.py")],
+                             capture_output=True, text=True, cwd=tmp_path, env=env)
+    assert process.returncode == 0, process.stderr
+    assert "ae = 12.0 mm" in process.stdout and "rejected: process.ae" in process.stdout
