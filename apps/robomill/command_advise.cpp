@@ -332,7 +332,6 @@ CommandResult compute_advise(const io::Job& job, int threads) {
         fmt::format("  redundancy: constant angle {:g} deg, minimum stable depth {:.3f} mm\n",
                     settings.redundancy->angles_rad[std::size_t(study->best_constant)] * kDegPerRad,
                     study->constant_min_limit_m * 1e3);
-  message += fmt::format("  {:.2f} s; ", elapsed_s);
   return result;
 }
 
@@ -342,7 +341,9 @@ int run_advise(const JobCommandOptions& options) {
   const std::filesystem::path out = output_dir(options, job, "advise");
   write_result(out, job.output, result);
   if (!options.quiet)
-    std::cout << result.message << "written to " << out.string() << '\n';
+    std::cout << result.message
+              << fmt::format("  {:.2f} s; written to {}\n",
+                             result.summary["elapsed_s"].get<double>(), out.string());
   return 0;
 }
 

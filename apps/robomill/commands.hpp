@@ -69,7 +69,6 @@ CommandResult compute_robot(const io::Job& job, int threads);
 /// Takes a copy: a job without a deflection: section gets the defaults.
 CommandResult compute_deflection(io::Job job, int threads);
 CommandResult compute_optimize(const io::Job& job, int threads);
-/// message ends in "  <elapsed> s; ": the command line appends "written to".
 CommandResult compute_advise(const io::Job& job, int threads);
 
 int run_forces(const JobCommandOptions& options);

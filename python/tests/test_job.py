@@ -184,3 +184,15 @@ def test_example_script_runs(source, tmp_path):
                              capture_output=True, text=True, cwd=tmp_path, env=env)
     assert process.returncode == 0, process.stderr
     assert "ae = 12.0 mm" in process.stdout and "rejected: process.ae" in process.stdout
+
+
+def test_analyses_run_in_parallel_python_threads(source):
+    from concurrent.futures import ThreadPoolExecutor
+    jobs = [robomill.Job(source / "examples" / "benchmark_1dof_005.yaml",
+                         {"stability.speeds.count": 8, "process.ae": f"{ae} mm"})
+            for ae in (0.5, 1.0, 1.5, 2.0)]
+    alone = [robomill.stability(job, threads=1)["sld"]["depth_limit_mm"] for job in jobs]
+    with ThreadPoolExecutor(max_workers=4) as pool:
+        together = list(pool.map(lambda job: robomill.stability(job, threads=1), jobs))
+    for a, t in zip(alone, together):
+        np.testing.assert_array_equal(a, t["sld"]["depth_limit_mm"])
