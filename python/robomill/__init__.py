@@ -163,6 +163,19 @@ def _out(out: Optional[PathLike]):
     return None if out is None else _os.fspath(out)
 
 
+def _threads(threads: int) -> int:
+    """--threads: 0 (all cores) or more."""
+    if isinstance(threads, bool) or not isinstance(threads, int) or threads < 0:
+        raise InputError(f"--threads: expected a whole number >= 0 (0: all cores), got {threads!r}")
+    return threads
+
+
+def _choice(option: str, value: str, allowed) -> str:
+    if value not in allowed:
+        raise InputError(f"{option}: '{value}': expected {' or '.join(a for a in allowed if a)}")
+    return value
+
+
 def _result(raw) -> dict:
     tables, documents, texts, summary, message = raw
     result: dict = {}
@@ -180,12 +193,12 @@ def _result(raw) -> dict:
 
 def forces(job, threads: int = 0, out: Optional[PathLike] = None) -> dict:
     """``robomill forces``: force and torque over whole revolutions → "forces"."""
-    return _result(_robomill.forces(_job(job), threads, _out(out)))
+    return _result(_robomill.forces(_job(job), _threads(threads), _out(out)))
 
 
 def stability(job, threads: int = 0, out: Optional[PathLike] = None) -> dict:
     """``robomill stability``: the lobe diagram → "sld" (+ "sld_envelope", "map")."""
-    return _result(_robomill.stability(_job(job), threads, _out(out)))
+    return _result(_robomill.stability(_job(job), _threads(threads), _out(out)))
 
 
 def fit_modes(job, out: Optional[PathLike] = None) -> dict:
@@ -201,23 +214,23 @@ def simulate(job, out: Optional[PathLike] = None) -> dict:
 
 def robot(job, threads: int = 0, out: Optional[PathLike] = None) -> dict:
     """``robomill robot``: the robot at its posture → "frf", "modes" (+ "map")."""
-    return _result(_robomill.robot(_job(job), threads, _out(out)))
+    return _result(_robomill.robot(_job(job), _threads(threads), _out(out)))
 
 
 def deflection(job, threads: int = 0, out: Optional[PathLike] = None) -> dict:
     """``robomill deflection``: tool and robot deformation over depths → "deflection"."""
-    return _result(_robomill.deflection(_job(job), threads, _out(out)))
+    return _result(_robomill.deflection(_job(job), _threads(threads), _out(out)))
 
 
 def optimize(job, threads: int = 0, out: Optional[PathLike] = None) -> dict:
     """``robomill optimize``: workpiece pose → "evaluations", "path" (+ "landscape")."""
-    return _result(_robomill.optimize(_job(job), threads, _out(out)))
+    return _result(_robomill.optimize(_job(job), _threads(threads), _out(out)))
 
 
 def advise(job, threads: int = 0, out: Optional[PathLike] = None) -> dict:
     """``robomill advise``: cutting-parameter advice → "advice", "advice_map"
     (+ "redundancy")."""
-    return _result(_robomill.advise(_job(job), threads, _out(out)))
+    return _result(_robomill.advise(_job(job), _threads(threads), _out(out)))
 
 
 def frf(job, from_: str = "", to: str = "", step: str = "", spacing: str = "linear",
@@ -236,7 +249,8 @@ def identify_cutting(data: PathLike, job: Optional[PathLike] = None, teeth: str 
     "cutting.yaml". Quantities as typed after --ap etc. ("3 mm")."""
     return _result(_robomill.identify_cutting(
         _os.fspath(data), "" if job is None else _os.fspath(job), str(teeth), str(ap), str(ae),
-        str(diameter), direction, measured_on, _out(out)))
+        str(diameter), _choice("--direction", direction, ("", "down", "up")),
+        _choice("--measured-on", measured_on, ("tool", "workpiece")), _out(out)))
 
 
 def identify_stiffness(data: PathLike, job, max_condition: float = 1e6,

@@ -196,3 +196,13 @@ def test_analyses_run_in_parallel_python_threads(source):
         together = list(pool.map(lambda job: robomill.stability(job, threads=1), jobs))
     for a, t in zip(alone, together):
         np.testing.assert_array_equal(a, t["sld"]["depth_limit_mm"])
+
+
+def test_argument_errors(source):
+    job = robomill.Job(source / "examples" / "demo.yaml")
+    with pytest.raises(robomill.InputError, match="--threads"):
+        robomill.forces(job, threads=-3)
+    with pytest.raises(robomill.InputError, match="--direction"):
+        robomill.identify_cutting(source / "README.md", teeth=2, direction="sideways")
+    with pytest.raises(robomill.InputError, match="--kind"):
+        robomill.frf(job, kind="velocity")
