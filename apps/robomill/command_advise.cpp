@@ -17,7 +17,6 @@
 #include "commands.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/io/csv.hpp"
-#include "robomill/io/output_bundle.hpp"
 #include "robomill/io/structure.hpp"
 #include "robomill/io/summary.hpp"
 #include "robomill/planning/cutting_advice.hpp"
@@ -117,8 +116,7 @@ nlohmann::json speed_json(const planning::SpeedAdvice& a, const io::Job& job) {
 
 }  // namespace
 
-int run_advise(const JobCommandOptions& options) {
-  const io::Job job = load(options);
+CommandResult compute_advise(const io::Job& job, int threads) {
   if (!job.advise)
     throw InputError("advise", 0,
                      "required: the advise: section (spindle range, depth step, margin, offset "
@@ -149,7 +147,7 @@ int run_advise(const JobCommandOptions& options) {
   planning::AdviceOptions advice_options;
   advice_options.limit = settings.limit;
   advice_options.peaks = settings.peaks;
-  advice_options.threads = options.threads;
+  advice_options.threads = threads;
   const planning::CuttingAdvice advice = planning::advise_cutting(
       cutter, *job.cutting, *job.process, stations, settings.limits, advice_options);
 
@@ -170,7 +168,7 @@ int run_advise(const JobCommandOptions& options) {
             : stability::linear_range(settings.limits.speed_min_rad_s,
                                       settings.limits.speed_max_rad_s, settings.limits.speed_count);
     study_options.limit = settings.limit;
-    study_options.threads = options.threads;
+    study_options.threads = threads;
     study = planning::redundancy_study(*robot, points, seed_posture(job, *robot), cutter,
                                        *job.cutting, *job.process, study_options);
   }
@@ -309,39 +307,43 @@ int run_advise(const JobCommandOptions& options) {
     document["redundancy"] = redundancy;
   }
 
-  const std::filesystem::path out = output_dir(options, job, "advise");
-  io::OutputBundle bundle(out);
-  if (job.output.csv) {
-    bundle.add("advice_map.csv", map.to_string());
-    if (redundancy_table)
-      bundle.add("redundancy.csv", redundancy_table->to_string());
-  }
-  if (job.output.json) {
-    bundle.add("advice.json", io::summary_text(document));
-    bundle.add("summary.json", io::summary_text(summary));
-  }
-  bundle.commit();
+  CommandResult result;
+  result.tables.emplace_back("advice_map", std::move(map));
+  if (redundancy_table)
+    result.tables.emplace_back("redundancy", std::move(*redundancy_table));
+  result.documents.emplace_back("advice", std::move(document));
+  result.summary = std::move(summary);
 
-  if (!options.quiet) {
-    if (advice.feasible) {
-      std::cout << fmt::format(
-          "advise ({}, {} station(s)): {:.0f} rpm, ap = {:.3f} mm → MRR {:.2f} cm³/min; limit "
-          "{:.3f} mm (margin to chatter {:.2f}), expected offset {:.4f} mm{}\n",
-          planning::to_string(settings.limit.method), stations.size(),
-          advice.best.spindle_rad_s * kRpmPerRadS, advice.best.depth_m * 1e3,
-          advice.best.mrr_m3_per_s * kCm3PerMinPerM3PerS, advice.best.limit_depth_m * 1e3,
-          advice.margin_to_chatter, advice.best.offset_m * 1e3,
-          advice.best.offset_limited ? " (offset-limited)" : "");
-    } else {
-      std::cout << "advise: no speed in the range admits one depth step within the limits\n";
-    }
-    if (study && study->best_constant >= 0)
-      std::cout << fmt::format(
-          "  redundancy: constant angle {:g} deg, minimum stable depth {:.3f} mm\n",
-          settings.redundancy->angles_rad[std::size_t(study->best_constant)] * kDegPerRad,
-          study->constant_min_limit_m * 1e3);
-    std::cout << fmt::format("  {:.2f} s; written to {}\n", elapsed_s, out.string());
+  std::string& message = result.message;
+  if (advice.feasible) {
+    message = fmt::format(
+        "advise ({}, {} station(s)): {:.0f} rpm, ap = {:.3f} mm → MRR {:.2f} cm³/min; limit "
+        "{:.3f} mm (margin to chatter {:.2f}), expected offset {:.4f} mm{}\n",
+        planning::to_string(settings.limit.method), stations.size(),
+        advice.best.spindle_rad_s * kRpmPerRadS, advice.best.depth_m * 1e3,
+        advice.best.mrr_m3_per_s * kCm3PerMinPerM3PerS, advice.best.limit_depth_m * 1e3,
+        advice.margin_to_chatter, advice.best.offset_m * 1e3,
+        advice.best.offset_limited ? " (offset-limited)" : "");
+  } else {
+    message = "advise: no speed in the range admits one depth step within the limits\n";
   }
+  if (study && study->best_constant >= 0)
+    message +=
+        fmt::format("  redundancy: constant angle {:g} deg, minimum stable depth {:.3f} mm\n",
+                    settings.redundancy->angles_rad[std::size_t(study->best_constant)] * kDegPerRad,
+                    study->constant_min_limit_m * 1e3);
+  return result;
+}
+
+int run_advise(const JobCommandOptions& options) {
+  const io::Job job = load(options);
+  const CommandResult result = compute_advise(job, options.threads);
+  const std::filesystem::path out = output_dir(options, job, "advise");
+  write_result(out, job.output, result);
+  if (!options.quiet)
+    std::cout << result.message
+              << fmt::format("  {:.2f} s; written to {}\n",
+                             result.summary["elapsed_s"].get<double>(), out.string());
   return 0;
 }
 

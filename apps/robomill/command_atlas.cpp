@@ -31,8 +31,6 @@
 #include "robomill/core/error.hpp"
 #include "robomill/core/parallel.hpp"
 #include "robomill/io/csv.hpp"
-#include "robomill/io/output_bundle.hpp"
-#include "robomill/io/summary.hpp"
 #include "robomill/robot/robot_model.hpp"
 
 namespace robomill::app {
@@ -143,10 +141,10 @@ int export_store(const AtlasOptions& options, const io::Job& job,
     summary["lowest_fn_hz"] = {{"min", fn_low}, {"max", fn_high}};
   if (reachable > 0 && spec.stability)
     summary["depth_min_mm"] = {{"min", dmin_low * 1e3}, {"max", dmin_high * 1e3}};
-  io::OutputBundle bundle(options.export_dir);
-  bundle.add("atlas.csv", table.to_string());
-  bundle.add("summary.json", io::summary_text(summary));
-  bundle.commit();
+  CommandResult result;
+  result.tables.emplace_back("atlas", std::move(table));
+  result.summary = std::move(summary);
+  write_result(options.export_dir, io::OutputSettings{}, result);
   if (!options.job.quiet) {
     std::cout << fmt::format("atlas: {} of {} items finished ({} reachable) → {}\n", rows.size(),
                              total, reachable, options.export_dir.string());

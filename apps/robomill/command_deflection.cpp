@@ -18,7 +18,6 @@
 #include "robomill/deflection/deformed_engagement.hpp"
 #include "robomill/io/csv.hpp"
 #include "robomill/io/deformation.hpp"
-#include "robomill/io/output_bundle.hpp"
 #include "robomill/io/summary.hpp"
 
 namespace robomill::app {
@@ -48,8 +47,7 @@ std::vector<double> sweep_depths(const io::Job& job, const deflection::Deflectio
 
 }  // namespace
 
-int run_deflection(const JobCommandOptions& options) {
-  io::Job job = load(options);
+CommandResult compute_deflection(io::Job job, int threads) {
   io::require(job, {io::Section::tool, io::Section::cutting, io::Section::process});
   if (!job.deflection) {
     // No section: the defaults (documented in docs/job-reference.md).
@@ -61,7 +59,7 @@ int run_deflection(const JobCommandOptions& options) {
   const std::vector<double> depths = sweep_depths(job, setup);
   const auto start = std::chrono::steady_clock::now();
   std::vector<deflection::ContactBoundary> boundaries(depths.size());
-  core::parallel_for(depths.size(), options.threads, [&](std::size_t i) {
+  core::parallel_for(depths.size(), threads, [&](std::size_t i) {
     boundaries[i] = deflection::solve_contact_boundary(
         deflection::contact_problem(setup, depths[i]), setup.options);
   });
@@ -117,24 +115,26 @@ int run_deflection(const JobCommandOptions& options) {
   if (!job.name.empty())
     summary["name"] = job.name;
 
-  const std::filesystem::path out = output_dir(options, job, "deflection");
-  io::OutputBundle bundle(out);
-  if (job.output.csv)
-    bundle.add("deflection.csv", table.to_string());
-  if (job.output.json)
-    bundle.add("summary.json", io::summary_text(summary));
-  bundle.commit();
+  CommandResult result;
+  result.tables.emplace_back("deflection", std::move(table));
+  result.summary = std::move(summary);
+  result.message = fmt::format(
+      "deflection: {} depths in {:.3f} s; ap_lim {} (Eq 22); max deformation {:.1f} um, entry "
+      "angle up to +{:.3f}° ({})\n",
+      depths.size(), elapsed_s,
+      std::isfinite(critical) ? fmt::format("{:.3f} mm", critical * 1e3) : "infinite",
+      max_deflection * 1e6, max_entry_increase * kDegPerRad,
+      setup.robot ? "tool and robot" : "tool only");
+  return result;
+}
 
-  if (!options.quiet) {
-    std::cout << fmt::format(
-        "deflection: {} depths in {:.3f} s; ap_lim {} (Eq 22); max deformation {:.1f} um, entry "
-        "angle up to +{:.3f}° ({})\n",
-        depths.size(), elapsed_s,
-        std::isfinite(critical) ? fmt::format("{:.3f} mm", critical * 1e3) : "infinite",
-        max_deflection * 1e6, max_entry_increase * kDegPerRad,
-        setup.robot ? "tool and robot" : "tool only");
-    std::cout << "  written to " << out.string() << '\n';
-  }
+int run_deflection(const JobCommandOptions& options) {
+  const io::Job job = load(options);
+  const CommandResult result = compute_deflection(job, options.threads);
+  const std::filesystem::path out = output_dir(options, job, "deflection");
+  write_result(out, job.output, result);
+  if (!options.quiet)
+    std::cout << result.message << "  written to " << out.string() << '\n';
   return 0;
 }
 

@@ -13,7 +13,6 @@
 #include "commands.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/io/csv.hpp"
-#include "robomill/io/output_bundle.hpp"
 #include "robomill/io/structure.hpp"
 #include "robomill/io/summary.hpp"
 
@@ -38,8 +37,7 @@ nlohmann::json mode_json(const dynamics::FittedMode& m) {
 
 }  // namespace
 
-int run_fit_modes(const JobCommandOptions& options) {
-  const io::Job job = load(options);
+CommandResult compute_fit_modes(const io::Job& job) {
   if (job.frf_files.empty())
     throw InputError("dynamics.frf", 0, "fit-modes needs measured FRF files (dynamics.frf)");
   const auto start = std::chrono::steady_clock::now();
@@ -123,33 +121,35 @@ int run_fit_modes(const JobCommandOptions& options) {
                             {"modes", all_modes},
                             {"fit_error", worst_error},
                             {"fits", fits}};
-  const std::filesystem::path out = output_dir(options, job, "fit-modes");
-  io::OutputBundle bundle(out);
-  if (job.output.csv) {
-    bundle.add("modes.csv", modes_table.to_string());
-    bundle.add("frf_fit.csv", fit_table.to_string());
-    bundle.add("stabilization.csv", stabilization_table.to_string());
-  }
-  bundle.add("modes.yaml", snippet);
-  if (job.output.json)
-    bundle.add("summary.json", io::summary_text(summary));
-  bundle.commit();
+  CommandResult result;
+  result.tables.emplace_back("modes", std::move(modes_table));
+  result.tables.emplace_back("frf_fit", std::move(fit_table));
+  result.tables.emplace_back("stabilization", std::move(stabilization_table));
+  result.texts.emplace_back("modes.yaml", std::move(snippet));
+  result.summary = std::move(summary);
 
-  if (!options.quiet) {
-    std::cout << fmt::format("fit-modes: {} FRF(s) fitted in {:.2f} s, {} modes\n",
-                             structure.fits.size(), elapsed_s, structure.modes.size());
-    for (std::size_t f = 0; f < structure.fits.size(); ++f) {
-      std::cout << fmt::format("  H{}: error {:.2g} %\n", direction_name(structure.measured[f]),
-                               100.0 * structure.fits[f].overall_error);
-      for (const dynamics::FittedMode& m : structure.fits[f].modes) {
-        std::cout << fmt::format(
-            "    {:10.4f} Hz  zeta {:6.3f} %  k {:10.4g} N/m  error {:.2g} %\n",
-            m.natural_frequency_hz, 100.0 * m.damping_ratio, m.stiffness_n_per_m,
-            100.0 * m.fit_error);
-      }
+  std::string& message = result.message;
+  message = fmt::format("fit-modes: {} FRF(s) fitted in {:.2f} s, {} modes\n",
+                        structure.fits.size(), elapsed_s, structure.modes.size());
+  for (std::size_t f = 0; f < structure.fits.size(); ++f) {
+    message += fmt::format("  H{}: error {:.2g} %\n", direction_name(structure.measured[f]),
+                           100.0 * structure.fits[f].overall_error);
+    for (const dynamics::FittedMode& m : structure.fits[f].modes) {
+      message += fmt::format("    {:10.4f} Hz  zeta {:6.3f} %  k {:10.4g} N/m  error {:.2g} %\n",
+                             m.natural_frequency_hz, 100.0 * m.damping_ratio, m.stiffness_n_per_m,
+                             100.0 * m.fit_error);
     }
-    std::cout << "  written to " << out.string() << '\n';
   }
+  return result;
+}
+
+int run_fit_modes(const JobCommandOptions& options) {
+  const io::Job job = load(options);
+  const CommandResult result = compute_fit_modes(job);
+  const std::filesystem::path out = output_dir(options, job, "fit-modes");
+  write_result(out, job.output, result);
+  if (!options.quiet)
+    std::cout << result.message << "  written to " << out.string() << '\n';
   return 0;
 }
 

@@ -9,7 +9,6 @@
 #include "commands.hpp"
 #include "robomill/cutting/milling_forces.hpp"
 #include "robomill/io/csv.hpp"
-#include "robomill/io/output_bundle.hpp"
 #include "robomill/io/summary.hpp"
 
 namespace robomill::app {
@@ -45,8 +44,7 @@ nlohmann::json law_summary(const io::Job& job, const cutting::MillingForceModel&
 
 }  // namespace
 
-int run_forces(const JobCommandOptions& options) {
-  const io::Job job = load(options);
+CommandResult compute_forces(const io::Job& job, int threads) {
   io::require(job, {io::Section::tool, io::Section::cutting, io::Section::process});
 
   const auto start = std::chrono::steady_clock::now();
@@ -56,7 +54,7 @@ int run_forces(const JobCommandOptions& options) {
                            : cutting::default_axial_elements(cutter, job.process->axial_depth_m);
   const cutting::MillingForceModel model(cutter, *job.cutting, *job.process, elements);
   const cutting::ForceSampling sampling{job.forces.revolutions, job.forces.steps_per_tooth};
-  const cutting::ForceSeries series = cutting::sample_forces(model, sampling, options.threads);
+  const cutting::ForceSeries series = cutting::sample_forces(model, sampling, threads);
   const cutting::ForceStatistics stats = cutting::summarize(series, job.process->spindle_rad_s);
   const double elapsed_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -93,24 +91,26 @@ int run_forces(const JobCommandOptions& options) {
   if (!job.name.empty())
     summary["name"] = job.name;
 
-  const std::filesystem::path out = output_dir(options, job, "forces");
-  io::OutputBundle bundle(out);
-  if (job.output.csv)
-    bundle.add("forces.csv", force_table(series).to_string());
-  if (job.output.json)
-    bundle.add("summary.json", io::summary_text(summary));
-  bundle.commit();
+  CommandResult result;
+  result.tables.emplace_back("forces", force_table(series));
+  result.summary = std::move(summary);
+  result.message = fmt::format(
+      "forces: {} samples over {} revolution(s), tooth period {:.6g} s ({:.4g} Hz)\n"
+      "  mean  Fx {:10.2f} N  Fy {:10.2f} N  Fz {:10.2f} N  torque {:.3f} N·m\n"
+      "  peak  Fx {:10.2f} N  Fy {:10.2f} N  Fz {:10.2f} N  torque {:.3f} N·m\n",
+      series.size(), sampling.revolutions, tooth_period_s, 1.0 / tooth_period_s, stats.mean_n.x(),
+      stats.mean_n.y(), stats.mean_n.z(), stats.mean_torque_nm, stats.peak_n.x(), stats.peak_n.y(),
+      stats.peak_n.z(), stats.peak_torque_nm);
+  return result;
+}
 
-  if (!options.quiet) {
-    std::cout << fmt::format(
-        "forces: {} samples over {} revolution(s), tooth period {:.6g} s ({:.4g} Hz)\n"
-        "  mean  Fx {:10.2f} N  Fy {:10.2f} N  Fz {:10.2f} N  torque {:.3f} N·m\n"
-        "  peak  Fx {:10.2f} N  Fy {:10.2f} N  Fz {:10.2f} N  torque {:.3f} N·m\n"
-        "  written to {}\n",
-        series.size(), sampling.revolutions, tooth_period_s, 1.0 / tooth_period_s, stats.mean_n.x(),
-        stats.mean_n.y(), stats.mean_n.z(), stats.mean_torque_nm, stats.peak_n.x(),
-        stats.peak_n.y(), stats.peak_n.z(), stats.peak_torque_nm, out.string());
-  }
+int run_forces(const JobCommandOptions& options) {
+  const io::Job job = load(options);
+  const CommandResult result = compute_forces(job, options.threads);
+  const std::filesystem::path out = output_dir(options, job, "forces");
+  write_result(out, job.output, result);
+  if (!options.quiet)
+    std::cout << result.message << "  written to " << out.string() << '\n';
   return 0;
 }
 

@@ -15,7 +15,6 @@
 #include "robomill/dynamics/frf.hpp"
 #include "robomill/dynamics/frf_noise.hpp"
 #include "robomill/io/frf_csv.hpp"
-#include "robomill/io/output_bundle.hpp"
 #include "robomill/io/summary.hpp"
 #include "robomill/io/uff58.hpp"
 #include "robomill/io/units.hpp"
@@ -50,8 +49,7 @@ dynamics::FrfKind kind_option(const std::string& text) {
 
 }  // namespace
 
-int run_frf(const FrfCommandOptions& options) {
-  const io::Job job = load(options.job);
+CommandResult compute_frf(const io::Job& job, const FrfCommandOptions& options) {
   io::require(job, {io::Section::modes});
   const dynamics::ModalModel modes = io::modal_model(job);
 
@@ -133,14 +131,13 @@ int run_frf(const FrfCommandOptions& options) {
     frfs.push_back(std::move(entry));
   }
 
-  const std::filesystem::path out = output_dir(options.job, job, "frf");
-  io::OutputBundle bundle(out);
+  CommandResult result;
   std::vector<std::string> files;
   if (options.format == "csv") {
     for (const io::UffFrf& entry : frfs) {
       const std::string name = fmt::format("frf_{}{}.csv", "xyz"[entry.frf.response_axis],
                                            "xyz"[entry.frf.reference_axis]);
-      bundle.add(name, io::format_frf_csv(entry.frf));
+      result.texts.emplace_back(name, io::format_frf_csv(entry.frf));
       files.push_back(name);
     }
   } else {
@@ -148,8 +145,8 @@ int run_frf(const FrfCommandOptions& options) {
     if (!binary && options.format != "uff58")
       throw InputError("--format", 0,
                        "'" + options.format + "': expected uff58, uff58b (binary) or csv");
-    bundle.add("frf.uff",
-               io::format_uff58(frfs, binary ? io::UffEncoding::binary : io::UffEncoding::ascii));
+    result.texts.emplace_back("frf.uff", io::format_uff58(frfs, binary ? io::UffEncoding::binary
+                                                                       : io::UffEncoding::ascii));
     files.push_back("frf.uff");
   }
   nlohmann::json summary = {{"command", "frf"},
@@ -163,14 +160,20 @@ int run_frf(const FrfCommandOptions& options) {
                             {"seed", options.seed},
                             {"frfs", frfs.size()},
                             {"files", files}};
-  if (job.output.json)
-    bundle.add("summary.json", io::summary_text(summary));
-  bundle.commit();
-  if (!options.job.quiet) {
-    std::cout << fmt::format("frf: {} FRF(s), {} points {:g}-{:g} Hz, noise {:g} %\n", frfs.size(),
-                             grid.size(), from_hz, grid.back(), 100.0 * options.noise)
-              << "  written to " << out.string() << '\n';
-  }
+  result.summary = std::move(summary);
+  result.message =
+      fmt::format("frf: {} FRF(s), {} points {:g}-{:g} Hz, noise {:g} %\n", frfs.size(),
+                  grid.size(), from_hz, grid.back(), 100.0 * options.noise);
+  return result;
+}
+
+int run_frf(const FrfCommandOptions& options) {
+  const io::Job job = load(options.job);
+  const CommandResult result = compute_frf(job, options);
+  const std::filesystem::path out = output_dir(options.job, job, "frf");
+  write_result(out, job.output, result);
+  if (!options.job.quiet)
+    std::cout << result.message << "  written to " << out.string() << '\n';
   return 0;
 }
 

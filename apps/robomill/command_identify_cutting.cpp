@@ -13,7 +13,6 @@
 #include "robomill/cutting/coefficient_identification.hpp"
 #include "robomill/cutting/engagement.hpp"
 #include "robomill/io/csv.hpp"
-#include "robomill/io/output_bundle.hpp"
 #include "robomill/io/summary.hpp"
 #include "robomill/io/units.hpp"
 
@@ -104,7 +103,7 @@ cutting::Engagement engagement_for(const TestSetup& setup, std::optional<double>
 
 }  // namespace
 
-int run_identify_cutting(const IdentifyOptions& options) {
+CommandResult compute_identify_cutting(const IdentifyOptions& options) {
   const TestSetup setup = setup_from(options);
   const io::CsvTable data = io::read_csv(options.data_file);
   const std::string source = options.data_file.string();
@@ -189,26 +188,28 @@ int run_identify_cutting(const IdentifyOptions& options) {
       source, tests.size(), fit.rms_residual_n, k.Ktc_pa * 1e-6, k.Krc_pa * 1e-6, k.Kac_pa * 1e-6,
       k.Kte_n_per_m * 1e-3, k.Kre_n_per_m * 1e-3, k.Kae_n_per_m * 1e-3);
 
+  CommandResult result;
+  result.tables.emplace_back("fit", std::move(table));
+  result.texts.emplace_back("cutting.yaml", snippet);
+  result.summary = std::move(summary);
+  result.message = fmt::format(
+      "identify-cutting: {} tests, RMS residual {:.3g} N, R² {:.6f}\n"
+      "  Ktc {:9.2f} ± {:.2f} N/mm²   Kte {:8.3f} ± {:.3f} N/mm\n"
+      "  Krc {:9.2f} ± {:.2f} N/mm²   Kre {:8.3f} ± {:.3f} N/mm\n"
+      "  Kac {:9.2f} ± {:.2f} N/mm²   Kae {:8.3f} ± {:.3f} N/mm\n",
+      tests.size(), fit.rms_residual_n, fit.r_squared, k.Ktc_pa * 1e-6, se[0] * 1e-6,
+      k.Kte_n_per_m * 1e-3, se[3] * 1e-3, k.Krc_pa * 1e-6, se[1] * 1e-6, k.Kre_n_per_m * 1e-3,
+      se[4] * 1e-3, k.Kac_pa * 1e-6, se[2] * 1e-6, k.Kae_n_per_m * 1e-3, se[5] * 1e-3);
+  return result;
+}
+
+int run_identify_cutting(const IdentifyOptions& options) {
+  const CommandResult result = compute_identify_cutting(options);
   const std::filesystem::path out =
       options.out_dir.empty() ? std::filesystem::path("out/identify-cutting") : options.out_dir;
-  io::OutputBundle bundle(out);
-  bundle.add("fit.csv", table.to_string());
-  bundle.add("cutting.yaml", snippet);
-  bundle.add("summary.json", io::summary_text(summary));
-  bundle.commit();
-
-  if (!options.quiet) {
-    std::cout << fmt::format(
-        "identify-cutting: {} tests, RMS residual {:.3g} N, R² {:.6f}\n"
-        "  Ktc {:9.2f} ± {:.2f} N/mm²   Kte {:8.3f} ± {:.3f} N/mm\n"
-        "  Krc {:9.2f} ± {:.2f} N/mm²   Kre {:8.3f} ± {:.3f} N/mm\n"
-        "  Kac {:9.2f} ± {:.2f} N/mm²   Kae {:8.3f} ± {:.3f} N/mm\n"
-        "  written to {}\n",
-        tests.size(), fit.rms_residual_n, fit.r_squared, k.Ktc_pa * 1e-6, se[0] * 1e-6,
-        k.Kte_n_per_m * 1e-3, se[3] * 1e-3, k.Krc_pa * 1e-6, se[1] * 1e-6, k.Kre_n_per_m * 1e-3,
-        se[4] * 1e-3, k.Kac_pa * 1e-6, se[2] * 1e-6, k.Kae_n_per_m * 1e-3, se[5] * 1e-3,
-        out.string());
-  }
+  write_result(out, io::OutputSettings{}, result);
+  if (!options.quiet)
+    std::cout << result.message << "  written to " << out.string() << '\n';
   return 0;
 }
 

@@ -33,7 +33,6 @@
 #include "robomill/core/error.hpp"
 #include "robomill/core/random.hpp"
 #include "robomill/io/csv.hpp"
-#include "robomill/io/output_bundle.hpp"
 #include "robomill/io/summary.hpp"
 #include "robomill/robot/kinematics.hpp"
 #include "robomill/robot/stiffness.hpp"
@@ -199,30 +198,25 @@ nlohmann::json vector_json(const Eigen::VectorXd& v) {
 
 }  // namespace
 
-int run_identify_stiffness(const IdentifyStiffnessOptions& options) {
-  JobCommandOptions job_options = options.job;
-  const io::Job job = load(job_options);
+CommandResult compute_identify_stiffness(const io::Job& job,
+                                         const IdentifyStiffnessOptions& options) {
   io::require(job, {io::Section::robot});
   const robot::RobotModel model(job.robot->description);
   std::vector<std::string> columns;
   const std::vector<LoadingTest> tests =
       read_loading_tests(options.data_file, model, !options.synthesize, columns);
-  const std::filesystem::path out = output_dir(job_options, job, "identify-stiffness");
 
   if (options.synthesize) {
     if (!(options.noise >= 0.0) || !std::isfinite(options.noise) || options.noise > 1.0)
       throw InputError("--noise", 0, fmt::format("must lie in [0, 1], got {:g}", options.noise));
     const bool with_moment = std::find(columns.begin(), columns.end(), "mx_Nm") != columns.end();
-    io::OutputBundle bundle(out);
-    bundle.add("loading_tests.csv",
-               synthesize(model, tests, options.noise, options.seed, with_moment).to_string());
-    bundle.commit();
-    if (!options.job.quiet) {
-      std::cout << fmt::format(
-          "synthesized {} loading tests on {} (job Kq, {:g} % noise, seed {}) → {}\n", tests.size(),
-          model.name(), 100.0 * options.noise, options.seed, (out / "loading_tests.csv").string());
-    }
-    return 0;
+    CommandResult result;
+    result.tables.emplace_back("loading_tests",
+                               synthesize(model, tests, options.noise, options.seed, with_moment));
+    result.message =
+        fmt::format("synthesized {} loading tests on {} (job Kq, {:g} % noise, seed {})",
+                    tests.size(), model.name(), 100.0 * options.noise, options.seed);
+    return result;
   }
 
   // 000 Eq 3 per test: Jc the measured point's Jacobian (the tool tip),
@@ -301,24 +295,35 @@ int run_identify_stiffness(const IdentifyStiffnessOptions& options) {
     snippet << (j ? ", " : "") << fmt::format("{:.4g}", id.stiffness_nm_per_rad[j]);
   snippet << "]   # N*m/rad\n";
 
-  io::OutputBundle bundle(out);
-  bundle.add("summary.json", io::summary_text(summary));
-  bundle.add("fit.csv", fit.to_string());
-  bundle.add("joint_stiffness.yaml", snippet.str());
-  bundle.commit();
+  CommandResult result;
+  result.tables.emplace_back("fit", std::move(fit));
+  result.texts.emplace_back("joint_stiffness.yaml", snippet.str());
+  result.summary = summary;
+  std::string& message = result.message;
+  message = fmt::format(
+      "joint stiffness of {} from {} loading tests (condition {:.3g}, RMS "
+      "residual {:.3g} um, R² {:.6f}):\n",
+      model.name(), tests.size(), id.condition_number, id.rms_residual_m * 1e6, id.r_squared);
+  for (int j = 0; j < model.dof(); ++j) {
+    const double k = id.stiffness_nm_per_rad[j];
+    message +=
+        fmt::format("  joint {}: {:.4g} N*m/rad, standard error {:.2f} %  (job: {:.4g})\n", j + 1,
+                    k, 100.0 * id.stiffness_standard_error_nm_per_rad[j] / k, prior[j]);
+  }
+  return result;
+}
 
+int run_identify_stiffness(const IdentifyStiffnessOptions& options) {
+  const io::Job job = load(options.job);
+  const CommandResult result = compute_identify_stiffness(job, options);
+  const std::filesystem::path out = output_dir(options.job, job, "identify-stiffness");
+  // Written whatever the job's output: section says (the files are the result).
+  write_result(out, io::OutputSettings{}, result);
   if (!options.job.quiet) {
-    std::cout << fmt::format(
-        "joint stiffness of {} from {} loading tests (condition {:.3g}, RMS "
-        "residual {:.3g} um, R² {:.6f}):\n",
-        model.name(), tests.size(), id.condition_number, id.rms_residual_m * 1e6, id.r_squared);
-    for (int j = 0; j < model.dof(); ++j) {
-      const double k = id.stiffness_nm_per_rad[j];
-      std::cout << fmt::format(
-          "  joint {}: {:.4g} N*m/rad, standard error {:.2f} %  (job: {:.4g})\n", j + 1, k,
-          100.0 * id.stiffness_standard_error_nm_per_rad[j] / k, prior[j]);
-    }
-    std::cout << "  written to " << out.string() << '\n';
+    if (options.synthesize)
+      std::cout << result.message << " → " << (out / "loading_tests.csv").string() << '\n';
+    else
+      std::cout << result.message << "  written to " << out.string() << '\n';
   }
   return 0;
 }

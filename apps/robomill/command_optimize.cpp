@@ -16,7 +16,6 @@
 #include "commands.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/io/csv.hpp"
-#include "robomill/io/output_bundle.hpp"
 #include "robomill/io/summary.hpp"
 #include "robomill/planning/pose_optimization.hpp"
 #include "robomill/stability/lobes.hpp"
@@ -84,8 +83,7 @@ void add_path_rows(io::CsvTable& table, int pose_index, const robot::RobotModel&
 
 }  // namespace
 
-int run_optimize(const JobCommandOptions& options) {
-  const io::Job job = load(options);
+CommandResult compute_optimize(const io::Job& job, int threads) {
   if (!job.optimize)
     throw InputError("optimize", 0, "required: the optimize: section (bounds of the pose search)");
   const io::OptimizeSettings& settings = *job.optimize;
@@ -111,13 +109,11 @@ int run_optimize(const JobCommandOptions& options) {
   // The job's own poses first (004 Table 2): each must be reachable.
   std::vector<std::pair<std::string, planning::PathPerformance>> listed;
   if (job.workpiece->pose)
-    listed.emplace_back(
-        "workpiece.pose",
-        planning::evaluate_path(robot, problem, *job.workpiece->pose, options.threads, true));
+    listed.emplace_back("workpiece.pose", planning::evaluate_path(
+                                              robot, problem, *job.workpiece->pose, threads, true));
   for (std::size_t i = 0; i < settings.poses.size(); ++i) {
-    listed.emplace_back(
-        fmt::format("optimize.poses[{}]", i),
-        planning::evaluate_path(robot, problem, settings.poses[i], options.threads, true));
+    listed.emplace_back(fmt::format("optimize.poses[{}]", i),
+                        planning::evaluate_path(robot, problem, settings.poses[i], threads, true));
   }
   for (const auto& [field, path] : listed) {
     if (!path.reachable())
@@ -127,7 +123,7 @@ int run_optimize(const JobCommandOptions& options) {
   }
 
   planning::PoseOptimizationOptions search = settings.options;
-  search.threads = options.threads;
+  search.threads = threads;
   const planning::PoseOptimizationResult result =
       planning::optimize_workpiece_pose(robot, problem, settings.bounds, search);
   if (!result.found) {
@@ -136,7 +132,7 @@ int run_optimize(const JobCommandOptions& options) {
     centre.y_m = 0.5 * (settings.bounds.lower.y_m + settings.bounds.upper.y_m);
     centre.theta_rad = 0.5 * (settings.bounds.lower.theta_rad + settings.bounds.upper.theta_rad);
     const planning::PathPerformance at_centre =
-        planning::evaluate_path(robot, problem, centre, options.threads, true);
+        planning::evaluate_path(robot, problem, centre, threads, true);
     throw InputError("optimize.bounds", 0,
                      fmt::format("no pose within the bounds reaches every path point ({} poses "
                                  "tried); at the centre {}: {}",
@@ -144,7 +140,7 @@ int run_optimize(const JobCommandOptions& options) {
                                  unreachable_text(robot, at_centre)));
   }
   const planning::PathPerformance best =
-      planning::evaluate_path(robot, problem, result.best, options.threads);
+      planning::evaluate_path(robot, problem, result.best, threads);
 
   nlohmann::json check;
   if (settings.check_time_domain) {
@@ -172,7 +168,7 @@ int run_optimize(const JobCommandOptions& options) {
                                 settings.landscape_counts[0]),
         stability::linear_range(settings.bounds.lower.y_m, settings.bounds.upper.y_m,
                                 settings.landscape_counts[1]),
-        settings.landscape_theta_rad, options.threads);
+        settings.landscape_theta_rad, threads);
   }
   const double elapsed_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -237,29 +233,30 @@ int run_optimize(const JobCommandOptions& options) {
     summary["landscape"] = {{"cells", landscape.size()}, {"reachable", reachable}};
   }
 
-  const std::filesystem::path out = output_dir(options, job, "optimize");
-  io::OutputBundle bundle(out);
-  if (job.output.csv) {
-    bundle.add("evaluations.csv", evaluations.to_string());
-    bundle.add("path.csv", path_table.to_string());
-    if (!landscape.empty())
-      bundle.add("landscape.csv", landscape_table.to_string());
-  }
-  if (job.output.json)
-    bundle.add("summary.json", io::summary_text(summary));
-  bundle.commit();
+  CommandResult output;
+  output.tables.emplace_back("evaluations", std::move(evaluations));
+  output.tables.emplace_back("path", std::move(path_table));
+  if (!landscape.empty())
+    output.tables.emplace_back("landscape", std::move(landscape_table));
+  output.summary = std::move(summary);
+  output.message = fmt::format(
+      "optimize: best pose {} with dm = {:.4f} mm ({}), {} evaluations in "
+      "{:.2f} s\n",
+      pose_text(result.best), result.dm_m * 1e3, planning::to_string(settings.measure),
+      result.evaluations.size(), result.elapsed_s);
+  for (const auto& [field, path] : listed)
+    output.message +=
+        fmt::format("  {} {}: dm = {:.4f} mm\n", field, pose_text(path.pose), path.dm_m * 1e3);
+  return output;
+}
 
-  if (!options.quiet) {
-    std::cout << fmt::format(
-        "optimize: best pose {} with dm = {:.4f} mm ({}), {} evaluations in "
-        "{:.2f} s\n",
-        pose_text(result.best), result.dm_m * 1e3, planning::to_string(settings.measure),
-        result.evaluations.size(), result.elapsed_s);
-    for (const auto& [field, path] : listed)
-      std::cout << fmt::format("  {} {}: dm = {:.4f} mm\n", field, pose_text(path.pose),
-                               path.dm_m * 1e3);
-    std::cout << "  written to " << out.string() << '\n';
-  }
+int run_optimize(const JobCommandOptions& options) {
+  const io::Job job = load(options);
+  const CommandResult result = compute_optimize(job, options.threads);
+  const std::filesystem::path out = output_dir(options, job, "optimize");
+  write_result(out, job.output, result);
+  if (!options.quiet)
+    std::cout << result.message << "  written to " << out.string() << '\n';
   return 0;
 }
 

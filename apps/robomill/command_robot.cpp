@@ -16,7 +16,6 @@
 #include "robomill/core/error.hpp"
 #include "robomill/core/parallel.hpp"
 #include "robomill/io/csv.hpp"
-#include "robomill/io/output_bundle.hpp"
 #include "robomill/io/summary.hpp"
 #include "robomill/robot/joint_dynamics.hpp"
 #include "robomill/robot/kinematics.hpp"
@@ -109,8 +108,7 @@ std::vector<MapPoint> workspace_map(const robot::RobotModel& model,
 
 }  // namespace
 
-int run_robot(const JobCommandOptions& options) {
-  const io::Job job = load(options);
+CommandResult compute_robot(const io::Job& job, int threads) {
   io::require(job, {io::Section::robot});
   const io::RobotSettings& settings = *job.robot;
   const auto start = std::chrono::steady_clock::now();
@@ -226,7 +224,7 @@ int run_robot(const JobCommandOptions& options) {
 
   std::optional<std::vector<MapPoint>> map;
   if (settings.map)
-    map = workspace_map(model, *settings.map, q, has_mass, options.threads);
+    map = workspace_map(model, *settings.map, q, has_mass, threads);
   const double elapsed_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
@@ -255,11 +253,10 @@ int run_robot(const JobCommandOptions& options) {
     summary["dynamics_note"] = "no link masses (robot.links): statics only";
   }
 
-  const std::filesystem::path out = output_dir(options, job, "robot");
-  io::OutputBundle bundle(out);
-  if (job.output.csv && modes) {
-    bundle.add("frf.csv", frf.to_string());
-    bundle.add("modes.csv", modes_table.to_string());
+  CommandResult result;
+  if (modes) {
+    result.tables.emplace_back("frf", std::move(frf));
+    result.tables.emplace_back("modes", std::move(modes_table));
   }
   if (map) {
     std::vector<std::string> columns = {"x_mm",
@@ -300,29 +297,35 @@ int run_robot(const JobCommandOptions& options) {
       summary["map"]["lowest_fn_hz_min"] = lowest;
       summary["map"]["lowest_fn_hz_max"] = highest;
     }
-    bundle.add("map.csv", table.to_string());
+    result.tables.emplace_back("map", std::move(table));
   }
-  if (job.output.json)
-    bundle.add("summary.json", io::summary_text(summary));
-  bundle.commit();
+  result.summary = std::move(summary);
 
-  if (!options.quiet) {
-    std::cout << fmt::format("robot {} ({} joints): tool at [{:.1f}, {:.1f}, {:.1f}] mm",
-                             model.name(), model.dof(), pose.translation().x() * 1e3,
-                             pose.translation().y() * 1e3, pose.translation().z() * 1e3);
-    if (modes) {
-      std::cout << "; natural frequencies";
-      for (Eigen::Index i = 0; i < modes->natural_frequencies_hz.size(); ++i)
-        std::cout << fmt::format(" {:.2f}", modes->natural_frequencies_hz[i]);
-      std::cout << " Hz";
-    }
-    std::cout << '\n';
-    if (map) {
-      std::cout << fmt::format("  map: {} of {} points reachable\n",
-                               summary["map"]["reachable"].get<int>(), map->size());
-    }
-    std::cout << "  written to " << out.string() << '\n';
+  std::string& message = result.message;
+  message = fmt::format("robot {} ({} joints): tool at [{:.1f}, {:.1f}, {:.1f}] mm", model.name(),
+                        model.dof(), pose.translation().x() * 1e3, pose.translation().y() * 1e3,
+                        pose.translation().z() * 1e3);
+  if (modes) {
+    message += "; natural frequencies";
+    for (Eigen::Index i = 0; i < modes->natural_frequencies_hz.size(); ++i)
+      message += fmt::format(" {:.2f}", modes->natural_frequencies_hz[i]);
+    message += " Hz";
   }
+  message += '\n';
+  if (map) {
+    message += fmt::format("  map: {} of {} points reachable\n",
+                           result.summary["map"]["reachable"].get<int>(), map->size());
+  }
+  return result;
+}
+
+int run_robot(const JobCommandOptions& options) {
+  const io::Job job = load(options);
+  const CommandResult result = compute_robot(job, options.threads);
+  const std::filesystem::path out = output_dir(options, job, "robot");
+  write_result(out, job.output, result);
+  if (!options.quiet)
+    std::cout << result.message << "  written to " << out.string() << '\n';
   return 0;
 }
 

@@ -19,7 +19,6 @@
 #include "robomill/cutting/engagement.hpp"
 #include "robomill/cutting/milling_forces.hpp"
 #include "robomill/io/csv.hpp"
-#include "robomill/io/output_bundle.hpp"
 #include "robomill/io/structure.hpp"
 #include "robomill/io/summary.hpp"
 #include "robomill/robot/joint_dynamics.hpp"
@@ -214,8 +213,7 @@ nlohmann::json per_axis(const simulation::ResponseMetrics& m, double scale,
 
 }  // namespace
 
-int run_simulate(const JobCommandOptions& options) {
-  const io::Job job = load(options);
+CommandResult compute_simulate(const io::Job& job) {
   io::require(job, {io::Section::tool, io::Section::cutting, io::Section::process});
   if (!job.simulation)
     throw InputError("simulation", 0,
@@ -322,30 +320,31 @@ int run_simulate(const JobCommandOptions& options) {
       {"element_evaluations", result.element_evaluations},
       {"elapsed_s", elapsed_s}};
 
-  const std::filesystem::path out = output_dir(options, job, "simulate");
-  io::OutputBundle bundle(out);
-  if (job.output.csv) {
-    bundle.add("timeseries.csv", series.to_string());
-    bundle.add("spectrum.csv", spectrum.to_string());
-  }
-  if (job.output.json)
-    bundle.add("summary.json", io::summary_text(summary));
-  bundle.commit();
+  CommandResult output;
+  output.tables.emplace_back("timeseries", std::move(series));
+  output.tables.emplace_back("spectrum", std::move(spectrum));
+  output.summary = std::move(summary);
+  output.message = fmt::format(
+      "simulate: {} s of cutting on {} ({} steps of {:.3g} s) in {:.2f} s\n"
+      "  static deviation x {:.4f} mm, y {:.4f} mm; overshoot (x) {:.1f} %, settling (x) "
+      "{:.3f} s\n"
+      "  first frequency x {:.3g} Hz, y {:.3g} Hz; {}\n",
+      result.time_s.back(), structure.description, result.size() - 1, result.step_s, elapsed_s,
+      metrics.direction[0].static_deviation_m * 1e3, metrics.direction[1].static_deviation_m * 1e3,
+      x.overshoot_pct, x.settling_time_s, metrics.direction[0].first_frequency_hz,
+      metrics.direction[1].first_frequency_hz,
+      metrics.chatter.chatter ? fmt::format("CHATTER at {:.1f} Hz", metrics.chatter.frequency_hz)
+                              : std::string("stable"));
+  return output;
+}
 
-  if (!options.quiet) {
-    std::cout << fmt::format(
-        "simulate: {} s of cutting on {} ({} steps of {:.3g} s) in {:.2f} s\n"
-        "  static deviation x {:.4f} mm, y {:.4f} mm; overshoot (x) {:.1f} %, settling (x) "
-        "{:.3f} s\n"
-        "  first frequency x {:.3g} Hz, y {:.3g} Hz; {}\n",
-        result.time_s.back(), structure.description, result.size() - 1, result.step_s, elapsed_s,
-        metrics.direction[0].static_deviation_m * 1e3,
-        metrics.direction[1].static_deviation_m * 1e3, x.overshoot_pct, x.settling_time_s,
-        metrics.direction[0].first_frequency_hz, metrics.direction[1].first_frequency_hz,
-        metrics.chatter.chatter ? fmt::format("CHATTER at {:.1f} Hz", metrics.chatter.frequency_hz)
-                                : std::string("stable"));
-    std::cout << "  wrote " << out.string() << '\n';
-  }
+int run_simulate(const JobCommandOptions& options) {
+  const io::Job job = load(options);
+  const CommandResult result = compute_simulate(job);
+  const std::filesystem::path out = output_dir(options, job, "simulate");
+  write_result(out, job.output, result);
+  if (!options.quiet)
+    std::cout << result.message << "  wrote " << out.string() << '\n';
   return 0;
 }
 

@@ -16,7 +16,6 @@
 #include "robomill/dynamics/modal_model.hpp"
 #include "robomill/io/csv.hpp"
 #include "robomill/io/deformation.hpp"
-#include "robomill/io/output_bundle.hpp"
 #include "robomill/io/structure.hpp"
 #include "robomill/io/summary.hpp"
 #include "robomill/stability/lobes.hpp"
@@ -321,8 +320,7 @@ std::vector<Variant> deformation_variants(const io::Job& job, const dynamics::Mo
 
 }  // namespace
 
-int run_stability(const JobCommandOptions& options) {
-  const io::Job job = load(options);
+CommandResult compute_stability(const io::Job& job, int threads) {
   io::require(
       job, {io::Section::tool, io::Section::cutting, io::Section::process, io::Section::stability});
   const Settings& settings = *job.stability;
@@ -353,7 +351,7 @@ int run_stability(const JobCommandOptions& options) {
   lobe_options.depth_max_m = settings.depth_max_m;
   lobe_options.depth_tolerance = settings.depth_tolerance;
   lobe_options.continuation = settings.continuation;
-  lobe_options.threads = options.threads;
+  lobe_options.threads = threads;
   if (settings.process_damping == Settings::Damping::linear_equivalent) {
     lobe_options.process_damping = stability::LinearProcessDamping{
         settings.indentation_n_per_m3, settings.wear_land_m, settings.friction};
@@ -371,17 +369,16 @@ int run_stability(const JobCommandOptions& options) {
     const stability::RegenerativeModel model(tool::Tool(*job.tool), *job.cutting, *job.process,
                                              *modes);
     if (want_coupled)
-      coupled = zero_order_diagram(model, settings, speeds, false, options.threads);
+      coupled = zero_order_diagram(model, settings, speeds, false, threads);
     if (want_envelope)
-      envelope = zero_order_diagram(model, settings, speeds, true, options.threads);
+      envelope = zero_order_diagram(model, settings, speeds, true, threads);
   } else if (settings.deformation) {
     if (settings.modes != Settings::Modes::coupled || settings.mode == Settings::Mode::map) {
       throw InputError("stability.deformation", 0,
                        "gives the coupled boundary diagrams of 000 (modes: coupled, mode: "
                        "boundary)");
     }
-    variants =
-        deformation_variants(job, *modes, lobe_options, speeds, options.threads, deformation);
+    variants = deformation_variants(job, *modes, lobe_options, speeds, threads, deformation);
     coupled = variants.front().limits;
   } else {
     // The time-domain methods take the modes' measured shapes along the tool
@@ -479,66 +476,66 @@ int run_stability(const JobCommandOptions& options) {
   if (!job.name.empty())
     summary["name"] = job.name;
 
-  const std::filesystem::path out = output_dir(options, job, "stability");
-  io::OutputBundle bundle(out);
-  if (job.output.csv) {
-    if (variants.empty()) {
-      bundle.add("sld.csv", limit_table(primary, !want_coupled).to_string());
-    } else {
-      // One limit and chatter-frequency column per variant next to the
-      // traditional diagram's (DESIGN.md's columns).
-      std::vector<std::string> columns = {"spindle_rpm", "depth_limit_mm", "chatter_freq_hz",
-                                          "bifurcation"};
+  CommandResult result;
+  result.summary = std::move(summary);
+  if (variants.empty()) {
+    result.tables.emplace_back("sld", limit_table(primary, !want_coupled));
+  } else {
+    // One limit and chatter-frequency column per variant next to the
+    // traditional diagram's (DESIGN.md's columns).
+    std::vector<std::string> columns = {"spindle_rpm", "depth_limit_mm", "chatter_freq_hz",
+                                        "bifurcation"};
+    for (std::size_t v = 1; v < variants.size(); ++v) {
+      columns.push_back(fmt::format("depth_limit_{}_mm", variants[v].name));
+      columns.push_back(fmt::format("chatter_freq_{}_hz", variants[v].name));
+    }
+    io::CsvTable table(columns);
+    for (std::size_t i = 0; i < primary.size(); ++i) {
+      const Limit& l = primary[i];
+      std::vector<io::CsvTable::Cell> row = {l.spindle_rad_s * kRpmPerRadS, l.depth_limit_m * 1e3,
+                                             l.chatter_frequency_hz, l.bifurcation};
       for (std::size_t v = 1; v < variants.size(); ++v) {
-        columns.push_back(fmt::format("depth_limit_{}_mm", variants[v].name));
-        columns.push_back(fmt::format("chatter_freq_{}_hz", variants[v].name));
+        row.emplace_back(variants[v].limits[i].depth_limit_m * 1e3);
+        row.emplace_back(variants[v].limits[i].chatter_frequency_hz);
       }
-      io::CsvTable table(columns);
-      for (std::size_t i = 0; i < primary.size(); ++i) {
-        const Limit& l = primary[i];
-        std::vector<io::CsvTable::Cell> row = {l.spindle_rad_s * kRpmPerRadS, l.depth_limit_m * 1e3,
-                                               l.chatter_frequency_hz, l.bifurcation};
-        for (std::size_t v = 1; v < variants.size(); ++v) {
-          row.emplace_back(variants[v].limits[i].depth_limit_m * 1e3);
-          row.emplace_back(variants[v].limits[i].chatter_frequency_hz);
-        }
-        table.add_cells(row);
-      }
-      bundle.add("sld.csv", table.to_string());
+      table.add_cells(row);
     }
-    if (want_coupled && want_envelope) {
-      bundle.add("sld_envelope.csv", limit_table(envelope, true).to_string());
-    }
-    if (map) {
-      io::CsvTable table({"spindle_rpm", "depth_mm", "spectral_radius"});
-      for (std::size_t i = 0; i < map->spindle_rad_s.size(); ++i) {
-        for (std::size_t j = 0; j < map->depth_m.size(); ++j) {
-          table.add_row(
-              {map->spindle_rad_s[i] * kRpmPerRadS, map->depth_m[j] * 1e3,
-               map->spectral_radius(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j))});
-        }
-      }
-      bundle.add("map.csv", table.to_string());
-    }
+    result.tables.emplace_back("sld", std::move(table));
   }
-  if (job.output.json)
-    bundle.add("summary.json", io::summary_text(summary));
-  bundle.commit();
+  if (want_coupled && want_envelope)
+    result.tables.emplace_back("sld_envelope", limit_table(envelope, true));
+  if (map) {
+    io::CsvTable table({"spindle_rpm", "depth_mm", "spectral_radius"});
+    for (std::size_t i = 0; i < map->spindle_rad_s.size(); ++i) {
+      for (std::size_t j = 0; j < map->depth_m.size(); ++j) {
+        table.add_row(
+            {map->spindle_rad_s[i] * kRpmPerRadS, map->depth_m[j] * 1e3,
+             map->spectral_radius(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j))});
+      }
+    }
+    result.tables.emplace_back("map", std::move(table));
+  }
 
-  if (!options.quiet) {
-    const nlohmann::json figures = diagram_summary(primary);
-    std::cout << fmt::format(
-        "stability ({}): {} speeds in {:.3f} s; limit {:.3f} mm (at {:.0f} rpm) … {:.3f} mm\n",
-        method_name(settings.method), speeds.size(), elapsed_s,
-        figures["min_limit_mm"].get<double>(), figures["min_limit_spindle_rpm"].get<double>(),
-        figures["max_limit_mm"].get<double>());
-    if (!job.experiments.empty()) {
-      const nlohmann::json check = summary["experiments"];
-      std::cout << fmt::format("  experiments: {} of {} agree with the prediction\n",
-                               check["agree"].get<int>(), check["compared"].get<int>());
-    }
-    std::cout << "  written to " << out.string() << '\n';
+  const nlohmann::json figures = diagram_summary(primary);
+  result.message = fmt::format(
+      "stability ({}): {} speeds in {:.3f} s; limit {:.3f} mm (at {:.0f} rpm) … {:.3f} mm\n",
+      method_name(settings.method), speeds.size(), elapsed_s, figures["min_limit_mm"].get<double>(),
+      figures["min_limit_spindle_rpm"].get<double>(), figures["max_limit_mm"].get<double>());
+  if (!job.experiments.empty()) {
+    const nlohmann::json& check = result.summary["experiments"];
+    result.message += fmt::format("  experiments: {} of {} agree with the prediction\n",
+                                  check["agree"].get<int>(), check["compared"].get<int>());
   }
+  return result;
+}
+
+int run_stability(const JobCommandOptions& options) {
+  const io::Job job = load(options);
+  const CommandResult result = compute_stability(job, options.threads);
+  const std::filesystem::path out = output_dir(options, job, "stability");
+  write_result(out, job.output, result);
+  if (!options.quiet)
+    std::cout << result.message << "  written to " << out.string() << '\n';
   return 0;
 }
 

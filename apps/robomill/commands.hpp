@@ -1,15 +1,44 @@
 #pragma once
 // The command-line tool's commands. Each is thin: load and validate the job,
-// call the library, hand results to the writers.
+// call the library, hand results to the writers. Each command is split into
+// compute_<name> (job in, CommandResult out; no files, no printing), shared
+// by the command line and the Python module, and run_<name> (load, compute,
+// write_result, print).
 
 #include <cstdint>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "robomill/io/csv.hpp"
 #include "robomill/io/job.hpp"
 
 namespace robomill::app {
+
+/// Everything one command produces, before anything is written.
+struct CommandResult {
+  /// CSV tables in the order they are written, by file name without ".csv"
+  /// ("sld", "sld_envelope"); written when the job's output.csv is on.
+  std::vector<std::pair<std::string, io::CsvTable>> tables;
+  /// Further JSON documents by file name without ".json" ("advice");
+  /// written when output.json is on.
+  std::vector<std::pair<std::string, nlohmann::json>> documents;
+  /// Other files by full name ("modes.yaml", "frf.uff"); always written.
+  std::vector<std::pair<std::string, std::string>> texts;
+  /// summary.json; written when output.json is on.
+  nlohmann::json summary;
+  /// What the command prints (unless --quiet) before its "written to" line.
+  std::string message;
+
+  const io::CsvTable* table(const std::string& name) const;
+};
+
+/// Stages every file of a result in one io::OutputBundle under `out` and
+/// commits it (all files or none).
+void write_result(const std::filesystem::path& out, const io::OutputSettings& output,
+                  const CommandResult& result);
 
 /// Options every job command shares (`robomill <command> JOB ...`).
 struct JobCommandOptions {
@@ -29,6 +58,19 @@ std::filesystem::path output_dir(const JobCommandOptions& options, const io::Job
                                  const std::string& command);
 
 int run_validate(const JobCommandOptions& options);
+
+// The computations behind the commands (the command line and the Python
+// module call these; they throw what the commands report).
+CommandResult compute_forces(const io::Job& job, int threads);
+CommandResult compute_stability(const io::Job& job, int threads);
+CommandResult compute_fit_modes(const io::Job& job);
+CommandResult compute_simulate(const io::Job& job);
+CommandResult compute_robot(const io::Job& job, int threads);
+/// Takes a copy: a job without a deflection: section gets the defaults.
+CommandResult compute_deflection(io::Job job, int threads);
+CommandResult compute_optimize(const io::Job& job, int threads);
+CommandResult compute_advise(const io::Job& job, int threads);
+
 int run_forces(const JobCommandOptions& options);
 int run_stability(const JobCommandOptions& options);
 int run_fit_modes(const JobCommandOptions& options);
@@ -48,6 +90,8 @@ struct IdentifyOptions {
   bool quiet = false;
 };
 int run_identify_cutting(const IdentifyOptions& options);
+/// Reads the data file (and the job, if any) itself; out_dir and quiet unused.
+CommandResult compute_identify_cutting(const IdentifyOptions& options);
 
 /// `robomill identify-stiffness DATA --job ROBOT.yaml`: Kq from loading tests
 /// (000 §6.1), or with `synthesize` the tests' displacements on the job's robot.
@@ -60,6 +104,10 @@ struct IdentifyStiffnessOptions {
   std::uint32_t seed = 1;
 };
 int run_identify_stiffness(const IdentifyStiffnessOptions& options);
+/// The job is options.job's, loaded; with `synthesize` the result holds only
+/// the loading_tests table (no summary).
+CommandResult compute_identify_stiffness(const io::Job& job,
+                                         const IdentifyStiffnessOptions& options);
 
 /// `robomill frf JOB`: FRFs synthesized from the job's modal table.
 struct FrfCommandOptions {
@@ -73,6 +121,7 @@ struct FrfCommandOptions {
   std::uint32_t seed = 1;
 };
 int run_frf(const FrfCommandOptions& options);
+CommandResult compute_frf(const io::Job& job, const FrfCommandOptions& options);
 
 /// `robomill atlas JOB`: the workspace atlas into its SQLite store (issue 11);
 /// with `export_dir` the store's results as atlas.csv and summary.json.

@@ -3,6 +3,8 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "robomill/io/output_bundle.hpp"
+#include "robomill/io/summary.hpp"
 
 namespace robomill::app {
 
@@ -22,6 +24,32 @@ std::filesystem::path output_dir(const JobCommandOptions& options, const io::Job
   if (!job.output.dir.empty())
     return job.resolve(job.output.dir);
   return std::filesystem::path("out") / command;
+}
+
+const io::CsvTable* CommandResult::table(const std::string& name) const {
+  for (const auto& [table_name, table] : tables) {
+    if (table_name == name)
+      return &table;
+  }
+  return nullptr;
+}
+
+void write_result(const std::filesystem::path& out, const io::OutputSettings& output,
+                  const CommandResult& result) {
+  io::OutputBundle bundle(out);
+  if (output.csv) {
+    for (const auto& [name, table] : result.tables)
+      bundle.add(name + ".csv", table.to_string());
+  }
+  for (const auto& [name, text] : result.texts)
+    bundle.add(name, text);
+  if (output.json) {
+    for (const auto& [name, document] : result.documents)
+      bundle.add(name + ".json", io::summary_text(document));
+    if (!result.summary.is_null())
+      bundle.add("summary.json", io::summary_text(result.summary));
+  }
+  bundle.commit();
 }
 
 int run_validate(const JobCommandOptions& options) {

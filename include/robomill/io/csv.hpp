@@ -30,6 +30,10 @@ class CsvTable {
   double at(std::size_t row, std::size_t column) const {
     return std::get<double>(cells_[row * columns_.size() + column]);
   }
+  /// A cell, number or text (row-major, as added).
+  const Cell& cell(std::size_t row, std::size_t column) const {
+    return cells_[row * columns_.size() + column];
+  }
   /// Index of a column, or -1.
   int find(const std::string& column) const noexcept;
 

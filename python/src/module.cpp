@@ -1,0 +1,333 @@
+// _robomill: the pybind11 extension behind the Python package `robomill`
+// (python/robomill/__init__.py). It calls the same compute_<name> functions
+// as the command line (apps/robomill/commands.hpp), so a job gives the same
+// numbers, tables and summary from either; tables come back as NumPy arrays
+// at full double precision (the CSV files carry 12 significant digits).
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
+
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <variant>
+#include <vector>
+
+#include "commands.hpp"
+#include "robomill/core/error.hpp"
+#include "robomill/io/job.hpp"
+#include "robomill/io/summary.hpp"
+
+namespace py = pybind11;
+using robomill::app::CommandResult;
+
+namespace {
+
+PyObject* error_type = nullptr;        // robomill.Error(RuntimeError)
+PyObject* input_error_type = nullptr;  // robomill.InputError(robomill.Error, ValueError)
+
+/// A validated job and how it was made, so that overrides can be added.
+struct JobHandle {
+  std::filesystem::path source;  ///< the file, or the name a text job goes by
+  std::optional<std::string> text;
+  std::vector<robomill::io::Override> overrides;
+  std::shared_ptr<const robomill::io::Job> job;
+
+  void parse() {
+    robomill::io::Job parsed;
+    {
+      py::gil_scoped_release release;
+      parsed = text ? robomill::io::parse_job(*text, source, overrides)
+                    : robomill::io::load_job(source, overrides);
+    }
+    job = std::make_shared<const robomill::io::Job>(std::move(parsed));
+  }
+};
+
+std::vector<robomill::io::Override> to_overrides(
+    const std::vector<std::pair<std::string, std::string>>& pairs) {
+  std::vector<robomill::io::Override> overrides;
+  for (const auto& [path, value] : pairs)
+    overrides.push_back({path, value});
+  return overrides;
+}
+
+/// One column: float64 array when every cell is a number, else a list of
+/// str (numbers among words, which robomill does not write, as float).
+py::object column(const robomill::io::CsvTable& table, std::size_t c) {
+  const std::size_t rows = table.rows();
+  bool numeric = true;
+  for (std::size_t r = 0; r < rows && numeric; ++r)
+    numeric = std::holds_alternative<double>(table.cell(r, c));
+  if (numeric) {
+    py::array_t<double> values(static_cast<py::ssize_t>(rows));
+    double* data = values.mutable_data();
+    for (std::size_t r = 0; r < rows; ++r)
+      data[r] = std::get<double>(table.cell(r, c));
+    return values;
+  }
+  py::list values;
+  for (std::size_t r = 0; r < rows; ++r) {
+    const auto& cell = table.cell(r, c);
+    if (const std::string* word = std::get_if<std::string>(&cell))
+      values.append(py::str(*word));
+    else
+      values.append(py::float_(std::get<double>(cell)));
+  }
+  return values;
+}
+
+/// (tables, documents, texts, summary, message): tables as a list of
+/// (name, {column: values}), documents and the summary as summary.json text
+/// (parsed on the Python side), texts as (file name, str or bytes).
+py::tuple to_python(const CommandResult& result) {
+  py::list tables;
+  for (const auto& [name, table] : result.tables) {
+    py::dict columns;
+    for (std::size_t c = 0; c < table.columns().size(); ++c)
+      columns[py::str(table.columns()[c])] = column(table, c);
+    tables.append(py::make_tuple(name, columns));
+  }
+  py::list documents;
+  for (const auto& [name, document] : result.documents)
+    documents.append(py::make_tuple(name, robomill::io::summary_text(document)));
+  py::list texts;
+  for (const auto& [name, text] : result.texts) {
+    // A binary UFF (frf --format uff58b) is not UTF-8 text.
+    if (PyObject* decoded = PyUnicode_DecodeUTF8(text.data(), py::ssize_t(text.size()), nullptr)) {
+      texts.append(py::make_tuple(name, py::reinterpret_steal<py::str>(decoded)));
+    } else {
+      PyErr_Clear();
+      texts.append(py::make_tuple(name, py::bytes(text)));
+    }
+  }
+  py::object summary = py::none();
+  if (!result.summary.is_null())
+    summary = py::str(robomill::io::summary_text(result.summary));
+  return py::make_tuple(tables, documents, texts, summary, result.message);
+}
+
+/// Runs a computation without the GIL, writes the files when `out` is given
+/// (exactly as the command line does), and converts the result.
+template <class Compute>
+py::tuple run(Compute&& compute, const std::optional<std::filesystem::path>& out,
+              const robomill::io::OutputSettings& output) {
+  CommandResult result;
+  {
+    py::gil_scoped_release release;
+    result = compute();
+    if (out)
+      robomill::app::write_result(*out, output, result);
+  }
+  return to_python(result);
+}
+
+const robomill::io::Job& job_of(const JobHandle& handle) {
+  if (!handle.job)
+    throw robomill::Error("the job was never loaded");
+  return *handle.job;
+}
+
+void raise_input_error(const char* message, const std::string& field, int line) {
+  py::object error = py::reinterpret_borrow<py::object>(input_error_type)(message);
+  error.attr("field") = field;
+  error.attr("line") = line;
+  PyErr_SetObject(input_error_type, error.ptr());
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_robomill, m) {
+  m.doc() = "robomill's C++ engine (use the package `robomill`, not this module)";
+
+  error_type = PyErr_NewException("robomill.Error", PyExc_RuntimeError, nullptr);
+  py::tuple input_bases = py::make_tuple(py::handle(error_type), py::handle(PyExc_ValueError));
+  input_error_type = PyErr_NewException("robomill.InputError", input_bases.ptr(), nullptr);
+  m.attr("Error") = py::handle(error_type);
+  m.attr("InputError") = py::handle(input_error_type);
+  // The command line's exit code 2 (robomill: error: / invalid input:) is
+  // InputError; its exit code 1 (robomill: failed:) is Error.
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p)
+        std::rethrow_exception(p);
+    } catch (const robomill::InputError& e) {
+      raise_input_error(e.what(), e.field(), e.line());
+    } catch (const robomill::Error& e) {
+      PyErr_SetString(error_type, e.what());
+    } catch (const std::invalid_argument& e) {
+      raise_input_error(e.what(), "", 0);
+    }
+  });
+
+  m.def(
+      "parse_override",
+      [](const std::string& assignment) {
+        const robomill::io::Override o = robomill::io::parse_override(assignment);
+        return std::make_pair(o.path, o.value);
+      },
+      "`key.path=value` as --set reads it");
+
+  py::class_<JobHandle>(m, "_Job")
+      .def_static(
+          "load",
+          [](const std::filesystem::path& file,
+             const std::vector<std::pair<std::string, std::string>>& overrides) {
+            JobHandle handle;
+            handle.source = file;
+            handle.overrides = to_overrides(overrides);
+            handle.parse();
+            return handle;
+          },
+          py::arg("file"), py::arg("overrides"))
+      .def_static(
+          "parse",
+          [](const std::string& text, const std::filesystem::path& source_name,
+             const std::vector<std::pair<std::string, std::string>>& overrides) {
+            JobHandle handle;
+            handle.source = source_name;
+            handle.text = text;
+            handle.overrides = to_overrides(overrides);
+            handle.parse();
+            return handle;
+          },
+          py::arg("text"), py::arg("source_name"), py::arg("overrides"))
+      .def("with_overrides",
+           [](const JobHandle& self,
+              const std::vector<std::pair<std::string, std::string>>& overrides) {
+             JobHandle handle = self;
+             for (const robomill::io::Override& o : to_overrides(overrides))
+               handle.overrides.push_back(o);
+             handle.parse();
+             return handle;
+           })
+      .def_property_readonly("source", [](const JobHandle& h) { return h.source; })
+      .def_property_readonly("text", [](const JobHandle& h) { return h.text; })
+      .def_property_readonly("overrides",
+                             [](const JobHandle& h) {
+                               std::vector<std::pair<std::string, std::string>> pairs;
+                               for (const auto& o : h.overrides)
+                                 pairs.emplace_back(o.path, o.value);
+                               return pairs;
+                             })
+      .def_property_readonly("name", [](const JobHandle& h) { return job_of(h).name; })
+      .def_property_readonly("sections", [](const JobHandle& h) {
+        const robomill::io::Job& job = job_of(h);
+        std::vector<std::string> sections;
+        auto add = [&](bool present, const char* name) {
+          if (present)
+            sections.emplace_back(name);
+        };
+        // The order and names of `robomill validate`'s line.
+        add(job.tool.has_value(), "tool");
+        add(job.cutting.has_value(), "cutting");
+        add(job.process.has_value(), "process");
+        add(!job.modes.empty() || !job.frf_files.empty(), "dynamics");
+        add(job.stability.has_value(), "stability");
+        add(job.robot.has_value(), "robot");
+        add(!job.experiments.empty(), "experiments");
+        return sections;
+      });
+
+  using Out = std::optional<std::filesystem::path>;
+  auto job_command = [&m](const char* name,
+                          CommandResult (*compute)(const robomill::io::Job&, int)) {
+    m.def(
+        name,
+        [compute](const JobHandle& handle, int threads, const Out& out) {
+          const robomill::io::Job& job = job_of(handle);
+          return run([&] { return compute(job, threads); }, out, job.output);
+        },
+        py::arg("job"), py::arg("threads") = 0, py::arg("out") = py::none());
+  };
+  job_command("forces", robomill::app::compute_forces);
+  job_command("stability", robomill::app::compute_stability);
+  job_command("robot", robomill::app::compute_robot);
+  job_command("optimize", robomill::app::compute_optimize);
+  job_command("advise", robomill::app::compute_advise);
+  m.def(
+      "deflection",
+      [](const JobHandle& handle, int threads, const Out& out) {
+        const robomill::io::Job& job = job_of(handle);
+        return run([&] { return robomill::app::compute_deflection(job, threads); }, out,
+                   job.output);
+      },
+      py::arg("job"), py::arg("threads") = 0, py::arg("out") = py::none());
+  m.def(
+      "fit_modes",
+      [](const JobHandle& handle, const Out& out) {
+        const robomill::io::Job& job = job_of(handle);
+        return run([&] { return robomill::app::compute_fit_modes(job); }, out, job.output);
+      },
+      py::arg("job"), py::arg("out") = py::none());
+  m.def(
+      "simulate",
+      [](const JobHandle& handle, const Out& out) {
+        const robomill::io::Job& job = job_of(handle);
+        return run([&] { return robomill::app::compute_simulate(job); }, out, job.output);
+      },
+      py::arg("job"), py::arg("out") = py::none());
+  m.def(
+      "frf",
+      [](const JobHandle& handle, const std::string& from, const std::string& to,
+         const std::string& step, const std::string& spacing, int points, const std::string& kind,
+         const std::string& format, double noise, std::uint32_t seed, const Out& out) {
+        const robomill::io::Job& job = job_of(handle);
+        robomill::app::FrfCommandOptions options;
+        options.from = from;
+        options.to = to;
+        options.step = step;
+        options.spacing = spacing;
+        options.points = points;
+        options.kind = kind;
+        options.format = format;
+        options.noise = noise;
+        options.seed = seed;
+        return run([&] { return robomill::app::compute_frf(job, options); }, out, job.output);
+      },
+      py::arg("job"), py::arg("from_"), py::arg("to"), py::arg("step"), py::arg("spacing"),
+      py::arg("points"), py::arg("kind"), py::arg("format"), py::arg("noise"), py::arg("seed"),
+      py::arg("out") = py::none());
+  m.def(
+      "identify_cutting",
+      [](const std::filesystem::path& data, const std::filesystem::path& job_file,
+         const std::string& teeth, const std::string& ap, const std::string& ae,
+         const std::string& diameter, const std::string& direction, const std::string& measured_on,
+         const Out& out) {
+        robomill::app::IdentifyOptions options;
+        options.data_file = data;
+        options.job_file = job_file;
+        options.teeth = teeth;
+        options.axial_depth = ap;
+        options.radial_depth = ae;
+        options.diameter = diameter;
+        options.direction = direction;
+        options.measured_on = measured_on;
+        return run([&] { return robomill::app::compute_identify_cutting(options); }, out,
+                   robomill::io::OutputSettings{});
+      },
+      py::arg("data"), py::arg("job_file"), py::arg("teeth"), py::arg("ap"), py::arg("ae"),
+      py::arg("diameter"), py::arg("direction"), py::arg("measured_on"),
+      py::arg("out") = py::none());
+  m.def(
+      "identify_stiffness",
+      [](const std::filesystem::path& data, const JobHandle& handle, double max_condition,
+         bool synthesize, double noise, std::uint32_t seed, const Out& out) {
+        const robomill::io::Job& job = job_of(handle);
+        robomill::app::IdentifyStiffnessOptions options;
+        options.data_file = data;
+        options.max_condition = max_condition;
+        options.synthesize = synthesize;
+        options.noise = noise;
+        options.seed = seed;
+        return run([&] { return robomill::app::compute_identify_stiffness(job, options); }, out,
+                   robomill::io::OutputSettings{});
+      },
+      py::arg("data"), py::arg("job"), py::arg("max_condition"), py::arg("synthesize"),
+      py::arg("noise"), py::arg("seed"), py::arg("out") = py::none());
+}

@@ -1,0 +1,208 @@
+"""Jobs from files and dicts, overrides, and errors with the command line's
+messages."""
+
+import json
+import subprocess
+
+import numpy as np
+import pytest
+
+import robomill
+
+from equality import assert_same_as_cli, run_cli, strip_timings
+
+DEMO_DICT = {
+    "tool": {"type": "flat", "diameter": "24 mm", "teeth": 2, "helix": "60 deg",
+             "overhang": "60 mm"},
+    "cutting": {"law": "linear", "Ktc": "855.00 N/mm^2", "Krc": "270.93 N/mm^2",
+                "Kte": "15.64 N/mm", "Kre": "14.167 N/mm"},
+    "process": {"spindle": "1000 rpm", "feed_per_tooth": "0.12 mm", "ap": "2 mm", "ae": "4 mm",
+                "direction": "up"},
+    "forces": {"revolutions": 1, "steps_per_tooth": 90},
+    "dynamics": {"modes": [
+        {"direction": "y", "fn": "19.88 Hz", "zeta": "0.81 %", "k": "3.65e6 N/m"},
+        {"direction": "x", "fn": "17.8 Hz", "zeta": "1.76 %", "k": 2.31e6},
+    ]},
+    "stability": {"method": "zoa", "speeds": {"from": "300 rpm", "to": "6000 rpm", "count": 25},
+                  "depth_max": "10 mm"},
+}
+
+
+def test_results_are_numpy_and_dicts(source):
+    result = robomill.stability(source / "examples" / "demo.yaml")
+    assert isinstance(result["summary"], dict) and result["summary"]["method"] == "zoa"
+    sld = result["sld"]
+    assert list(sld) == ["spindle_rpm", "depth_limit_mm", "chatter_freq_hz", "bifurcation"]
+    assert isinstance(sld["depth_limit_mm"], np.ndarray)
+    assert sld["depth_limit_mm"].dtype == np.float64 and sld["depth_limit_mm"].shape == (400,)
+    assert set(sld["bifurcation"]) <= {"hopf", "none"}
+    assert result["summary"]["min_limit_mm"] == pytest.approx(sld["depth_limit_mm"].min())
+    assert "sld_envelope" in result and "mode" in result["sld_envelope"]
+    assert result["message"].startswith("stability (zoa): 400 speeds")
+
+
+def test_overrides_match_set(cli, source, tmp_path):
+    job_file = source / "examples" / "demo.yaml"
+    run_cli(cli, ["forces", job_file, "--set", "process.ae=2 mm", "--set", "forces.revolutions=1"],
+            tmp_path / "cli")
+    # dict, list of assignments, and with_overrides on a loaded job: one job.
+    for job in (robomill.Job(job_file, {"process.ae": "2 mm", "forces.revolutions": 1}),
+                robomill.Job(job_file, ["process.ae=2 mm", "forces.revolutions=1"]),
+                robomill.Job(job_file).with_overrides({"process.ae": "2 mm"})
+                                      .with_overrides(["forces.revolutions=1"])):
+        assert job.overrides == {"process.ae": "2 mm", "forces.revolutions": "1"}
+        assert_same_as_cli(robomill.forces(job), tmp_path / "cli")
+    base = robomill.Job(job_file)
+    assert base.overrides == {}  # with_overrides made new jobs
+    full = robomill.forces(base)["summary"]
+    assert full["revolutions"] == 2 and full["mean_N"] != robomill.forces(
+        base.with_overrides({"process.ae": "2 mm"}))["summary"]["mean_N"]
+
+
+def test_list_and_bool_overrides(source):
+    job = robomill.Job(source / "examples" / "demo.yaml",
+                       {"stability.speeds": {"from": "1000 rpm", "to": "2000 rpm", "count": 3},
+                        "stability.modes": "coupled"})
+    result = robomill.stability(job)
+    assert list(result["sld"]["spindle_rpm"]) == pytest.approx([1000, 1500, 2000])
+    assert "sld_envelope" not in result
+
+
+def test_dict_job_equals_file_job(cli, tmp_path):
+    job_file = tmp_path / "demo.json"  # JSON is YAML: the command line reads it as a job
+    job_file.write_text(json.dumps(DEMO_DICT, indent=2))
+    run_cli(cli, ["stability", job_file], tmp_path / "cli")
+    result = robomill.stability(robomill.Job.from_dict(DEMO_DICT))
+    cli_summary = json.loads((tmp_path / "cli" / "summary.json").read_text())
+    del cli_summary["job"]
+    summary = dict(result["summary"])
+    assert summary.pop("job").endswith("<dict>")
+    assert strip_timings(summary) == strip_timings(cli_summary)
+    (tmp_path / "cli" / "summary.json").unlink()
+    result.pop("summary")
+    assert_same_as_cli(result, tmp_path / "cli")
+    # A dict is accepted wherever a job is.
+    assert robomill.forces(DEMO_DICT)["summary"]["samples"] == 180
+
+
+def test_dict_job_paths_are_relative_to_base_dir(source):
+    yaml = pytest.importorskip("yaml")  # Debian python3-yaml, when present
+    job_file = source / "examples" / "003_kr270_measured_frf.yaml"
+    data = yaml.safe_load(job_file.read_text())
+    from_dict = robomill.fit_modes(robomill.Job.from_dict(data, base_dir=job_file.parent))
+    from_file = robomill.fit_modes(robomill.Job(job_file))
+    np.testing.assert_array_equal(from_dict["modes"]["fn_hz"], from_file["modes"]["fn_hz"])
+    with pytest.raises(robomill.InputError, match="/nonexistent/"):
+        robomill.fit_modes(robomill.Job.from_dict(data, base_dir="/nonexistent"))
+
+
+def test_validate_lists_sections(source):
+    job = robomill.Job(source / "examples" / "demo.yaml")
+    assert job.validate() == ["tool", "cutting", "process", "dynamics", "stability"]
+    assert job.name.startswith("demo")
+    assert "demo.yaml" in repr(job)
+
+
+def cli_error(cli, *args):
+    process = subprocess.run([cli, *map(str, args)], capture_output=True, text=True)
+    return process.returncode, process.stderr.strip()
+
+
+@pytest.mark.parametrize("bad", [
+    "ae_over_diameter", "bad_direction", "bad_law", "empty_file", "inf_value", "map_for_number",
+    "missing_teeth", "nan_value", "negative_teeth", "stability_unknown_method",
+    "stability_zero_speeds", "string_for_number", "teeth_list", "unknown_key", "unknown_section",
+    "unknown_unit", "wrong_dimension", "yaml_syntax", "zero_diameter",
+])
+def test_invalid_job_raises_the_command_lines_message(cli, source, bad):
+    job_file = source / "tests" / "cli" / "bad" / f"{bad}.yaml"
+    code, stderr = cli_error(cli, "validate", job_file)
+    assert code == 2
+    with pytest.raises(robomill.InputError) as error:
+        robomill.Job(job_file)
+    assert stderr == f"robomill: error: {error.value}"
+    assert isinstance(error.value, ValueError) and isinstance(error.value, robomill.Error)
+    assert error.value.field and error.value.field in stderr
+
+
+@pytest.mark.parametrize("command,function,overrides", [
+    ("stability", robomill.stability, ["stability.method=zoa", "stability.mode=map"]),
+    ("simulate", robomill.simulate, []),
+    ("robot", robomill.robot, []),
+])
+def test_analysis_errors_carry_the_command_lines_message(cli, source, tmp_path, command, function,
+                                                         overrides):
+    job_file = source / "examples" / "benchmark_1dof_slot.yaml"
+    args = [command, job_file, "--out", tmp_path / "out"]
+    for o in overrides:
+        args += ["--set", o]
+    code, stderr = cli_error(cli, *args)
+    assert code == 2
+    with pytest.raises(robomill.InputError) as error:
+        function(robomill.Job(job_file, overrides))
+    assert stderr == f"robomill: error: {error.value}"
+    assert not (tmp_path / "out").exists()
+
+
+def test_override_errors(cli, source):
+    job_file = source / "examples" / "demo.yaml"
+    for assignment in ("process.ae", "process..ae=1", "process.ae="):
+        code, stderr = cli_error(cli, "validate", job_file, "--set", assignment)
+        assert code == 2
+        with pytest.raises(robomill.InputError) as error:
+            robomill.Job(job_file, [assignment])
+        assert stderr == f"robomill: error: {error.value}"
+        assert error.value.field == "--set"
+    code, stderr = cli_error(cli, "validate", job_file, "--set", "process.ae=40 mm")
+    with pytest.raises(robomill.InputError) as error:
+        robomill.Job(job_file, {"process.ae": "40 mm"})
+    assert stderr == f"robomill: error: {error.value}"
+
+
+def test_missing_file(cli, tmp_path):
+    code, stderr = cli_error(cli, "validate", tmp_path / "none.yaml")
+    with pytest.raises(robomill.InputError) as error:
+        robomill.Job(tmp_path / "none.yaml")
+    assert stderr == f"robomill: error: {error.value}"
+
+
+def test_threads_give_the_same_numbers(source):
+    job = robomill.Job(source / "examples" / "benchmark_1dof_005.yaml",
+                       {"stability.speeds.count": 16})
+    one = robomill.stability(job, threads=1)
+    many = robomill.stability(job, threads=4)
+    for column in ("spindle_rpm", "depth_limit_mm", "chatter_freq_hz"):
+        np.testing.assert_array_equal(one["sld"][column], many["sld"][column])
+
+
+def test_example_script_runs(source, tmp_path):
+    import os
+    import sys
+    env = dict(os.environ, MPLBACKEND="Agg")
+    process = subprocess.run([sys.executable, str(source / "examples" / "python" /
+                                                  "stability_study.py")],
+                             capture_output=True, text=True, cwd=tmp_path, env=env)
+    assert process.returncode == 0, process.stderr
+    assert "ae = 12.0 mm" in process.stdout and "rejected: process.ae" in process.stdout
+
+
+def test_analyses_run_in_parallel_python_threads(source):
+    from concurrent.futures import ThreadPoolExecutor
+    jobs = [robomill.Job(source / "examples" / "benchmark_1dof_005.yaml",
+                         {"stability.speeds.count": 8, "process.ae": f"{ae} mm"})
+            for ae in (0.5, 1.0, 1.5, 2.0)]
+    alone = [robomill.stability(job, threads=1)["sld"]["depth_limit_mm"] for job in jobs]
+    with ThreadPoolExecutor(max_workers=4) as pool:
+        together = list(pool.map(lambda job: robomill.stability(job, threads=1), jobs))
+    for a, t in zip(alone, together):
+        np.testing.assert_array_equal(a, t["sld"]["depth_limit_mm"])
+
+
+def test_argument_errors(source):
+    job = robomill.Job(source / "examples" / "demo.yaml")
+    with pytest.raises(robomill.InputError, match="--threads"):
+        robomill.forces(job, threads=-3)
+    with pytest.raises(robomill.InputError, match="--direction"):
+        robomill.identify_cutting(source / "README.md", teeth=2, direction="sideways")
+    with pytest.raises(robomill.InputError, match="--kind"):
+        robomill.frf(job, kind="velocity")
