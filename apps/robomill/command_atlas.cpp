@@ -44,8 +44,10 @@ extern "C" void on_interrupt(int) {
   g_interrupted.store(true);
 }
 
+}  // namespace
+
 /// The job as the store records it: the file's bytes, then each --set.
-atlas::StoreIdentity identity_of(const JobCommandOptions& options, int dof) {
+atlas::StoreIdentity atlas_store_identity(const JobCommandOptions& options, int dof) {
   std::ifstream in(options.job_file, std::ios::binary);
   std::ostringstream text;
   text << in.rdbuf();
@@ -58,6 +60,8 @@ atlas::StoreIdentity identity_of(const JobCommandOptions& options, int dof) {
   identity.dof = dof;
   return identity;
 }
+
+namespace {
 
 std::string duration_text(double seconds) {
   if (!std::isfinite(seconds) || seconds < 0.0)
@@ -160,7 +164,7 @@ int run_atlas(const AtlasOptions& options) {
     throw InputError("atlas", 0, "required: the atlas: section (grid, analyses, store)");
   const atlas::AtlasSpec& spec = *job.atlas;
   const robot::RobotModel model(job.robot->description);
-  const atlas::StoreIdentity identity = identity_of(options.job, model.dof());
+  const atlas::StoreIdentity identity = atlas_store_identity(options.job, model.dof());
   try {
     if (!options.export_dir.empty())
       return export_store(options, job, identity);
@@ -300,210 +304,3 @@ int run_atlas(const AtlasOptions& options) {
 }
 
 }  // namespace robomill::app
-
-#ifdef ROBOMILL_WITH_MPI
-// robomill_atlas_mpi JOB: the same atlas over MPI ranks (`mpirun -np N
-// robomill_atlas_mpi JOB`). Rank 0 owns the store and deals item ids in small
-// chunks to whichever rank asks (dynamic load balance); it also computes on a
-// thread of its own. Workers send back their chunk's packed results with the
-// next request. Results are bitwise those of the threaded run.
-
-#include <mpi.h>
-
-#include <CLI/CLI.hpp>
-
-namespace robomill::app {
-namespace {
-
-constexpr int kTagResults = 1;  // worker → 0: [id, packed result]… (doubles); empty: ready
-constexpr int kTagChunk = 2;    // 0 → worker: item ids (int64); empty: stop
-constexpr std::size_t kChunk = 4;
-
-void worker_rank(const atlas::AtlasContext& context, const atlas::AtlasSpec& spec, int dof) {
-  const int stride = 1 + atlas::packed_size(dof);
-  std::vector<double> out;
-  std::vector<std::int64_t> ids(kChunk);
-  for (;;) {
-    MPI_Send(out.data(), static_cast<int>(out.size()), MPI_DOUBLE, 0, kTagResults, MPI_COMM_WORLD);
-    MPI_Status status;
-    MPI_Recv(ids.data(), static_cast<int>(kChunk), MPI_INT64_T, 0, kTagChunk, MPI_COMM_WORLD,
-             &status);
-    int count = 0;
-    MPI_Get_count(&status, MPI_INT64_T, &count);
-    if (count == 0)
-      return;
-    out.assign(static_cast<std::size_t>(count) * stride, 0.0);
-    for (int i = 0; i < count; ++i) {
-      const atlas::AtlasResult r = context.evaluate(atlas::item(spec, ids[i]));
-      out[static_cast<std::size_t>(i) * stride] = static_cast<double>(ids[i]);
-      atlas::pack(r, dof, out.data() + static_cast<std::size_t>(i) * stride + 1);
-    }
-  }
-}
-
-int dealer_rank(const AtlasOptions& options, const atlas::AtlasContext& context,
-                const atlas::AtlasSpec& spec, atlas::AtlasStore& store, int ranks) {
-  const int dof = context.model().dof();
-  const int stride = 1 + atlas::packed_size(dof);
-  const std::vector<std::int64_t> pending = store.pending();
-  const std::int64_t total = store.item_total();
-  const std::int64_t already = total - static_cast<std::int64_t>(pending.size());
-  const auto start = std::chrono::steady_clock::now();
-  std::atomic<std::size_t> next{0};
-  std::mutex mutex;
-  std::vector<std::pair<std::int64_t, atlas::AtlasResult>> local, batch;
-  std::exception_ptr failure;  // set under `mutex`; `failed` tells the dealer loop
-  std::atomic<bool> failed{false}, local_done{false};
-  // Rank 0 computes too, one item at a time from the same counter.
-  std::thread own([&] {
-    try {
-      for (std::size_t i; (i = next.fetch_add(1)) < pending.size();) {
-        atlas::AtlasResult r = context.evaluate(atlas::item(spec, pending[i]));
-        const std::lock_guard lock(mutex);
-        local.emplace_back(pending[i], std::move(r));
-      }
-    } catch (...) {
-      const std::lock_guard lock(mutex);
-      failure = std::current_exception();
-      failed.store(true);
-    }
-    local_done.store(true);
-  });
-  // If the dealer loop throws (a failed commit), stop and join the thread
-  // before the exception leaves: a joinable std::thread would terminate.
-  struct JoinOnExit {
-    std::thread& thread;
-    std::atomic<std::size_t>& next;
-    std::size_t end;
-    ~JoinOnExit() {
-      if (thread.joinable()) {
-        next.store(end);
-        thread.join();
-      }
-    }
-  } join_on_exit{own, next, pending.size()};
-  int active = ranks - 1;
-  std::vector<double> in;
-  std::vector<std::int64_t> chunk;
-  std::int64_t committed = 0;
-  auto last_commit = std::chrono::steady_clock::now();
-  while (active > 0 || !local_done.load()) {
-    int flag = 0;
-    MPI_Status status;
-    MPI_Iprobe(MPI_ANY_SOURCE, kTagResults, MPI_COMM_WORLD, &flag, &status);
-    if (flag) {
-      int count = 0;
-      MPI_Get_count(&status, MPI_DOUBLE, &count);
-      in.resize(static_cast<std::size_t>(count));
-      MPI_Recv(in.data(), count, MPI_DOUBLE, status.MPI_SOURCE, kTagResults, MPI_COMM_WORLD,
-               MPI_STATUS_IGNORE);
-      for (int k = 0; k + stride <= count; k += stride)
-        batch.emplace_back(static_cast<std::int64_t>(in[static_cast<std::size_t>(k)]),
-                           atlas::unpack(in.data() + k + 1, dof));
-      chunk.clear();
-      for (std::size_t c = 0; c < kChunk && !failed.load(); ++c) {
-        const std::size_t i = next.fetch_add(1);
-        if (i >= pending.size())
-          break;
-        chunk.push_back(pending[i]);
-      }
-      MPI_Send(chunk.data(), static_cast<int>(chunk.size()), MPI_INT64_T, status.MPI_SOURCE,
-               kTagChunk, MPI_COMM_WORLD);
-      if (chunk.empty())
-        --active;
-    } else {
-      std::this_thread::sleep_for(std::chrono::microseconds(200));
-    }
-    {
-      const std::lock_guard lock(mutex);
-      batch.insert(batch.end(), std::make_move_iterator(local.begin()),
-                   std::make_move_iterator(local.end()));
-      local.clear();
-    }
-    const auto now = std::chrono::steady_clock::now();
-    if (!batch.empty() && now - last_commit >= std::chrono::milliseconds(250)) {
-      store.commit(batch);
-      committed += static_cast<std::int64_t>(batch.size());
-      batch.clear();
-      last_commit = now;
-    }
-  }
-  own.join();
-  batch.insert(batch.end(), std::make_move_iterator(local.begin()),
-               std::make_move_iterator(local.end()));
-  store.commit(batch);
-  committed += static_cast<std::int64_t>(batch.size());
-  if (failure)
-    std::rethrow_exception(failure);
-  const double elapsed =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (!options.job.quiet) {
-    std::cout << fmt::format(
-        "atlas: {} items computed in {:.2f} s on {} MPI ranks ({:.1f} items/s); {} were already "
-        "in the store; {} of {} done → {}\n",
-        committed, elapsed, ranks, elapsed > 0.0 ? static_cast<double>(committed) / elapsed : 0.0,
-        already, already + committed, total, spec.store.string());
-  }
-  return 0;
-}
-
-int run_atlas_mpi(const AtlasOptions& options, int rank, int ranks) {
-  const io::Job job = load(options.job);
-  if (!job.atlas)
-    throw InputError("atlas", 0, "required: the atlas: section (grid, analyses, store)");
-  const atlas::AtlasSpec& spec = *job.atlas;
-  const robot::RobotModel model(job.robot->description);
-  const Eigen::VectorXd seed =
-      Eigen::Map<const Eigen::VectorXd>(job.robot->posture_rad.data(), model.dof());
-  std::optional<tool::Tool> tool;
-  if (job.tool)
-    tool.emplace(*job.tool);
-  const atlas::AtlasContext context(spec, model, seed, tool, job.cutting, job.process);
-  if (rank != 0) {
-    worker_rank(context, spec, model.dof());
-    return 0;
-  }
-  try {
-    atlas::AtlasStore store(spec.store, identity_of(options.job, model.dof()), spec,
-                            options.restart);
-    return dealer_rank(options, context, spec, store, ranks);
-  } catch (const atlas::StoreMismatch& mismatch) {
-    throw InputError("atlas.store", 0, mismatch.what());
-  }
-}
-
-}  // namespace
-}  // namespace robomill::app
-
-int main(int argc, char** argv) {
-  int provided = 0;
-  MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
-  int rank = 0, ranks = 1;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  MPI_Comm_size(MPI_COMM_WORLD, &ranks);
-  CLI::App app{"robomill_atlas_mpi — robomill atlas over MPI ranks (mpirun -np N ...)"};
-  robomill::app::AtlasOptions options;
-  app.add_option("JOB", options.job.job_file, "job file (YAML)")->required();
-  app.add_option("--set", options.job.overrides, "override a job field before validation");
-  app.add_flag("--restart", options.restart, "discard a store written by another job");
-  app.add_flag("--quiet", options.job.quiet, "print nothing but errors");
-  int code = 0;
-  try {
-    app.parse(argc, argv);
-    code = robomill::app::run_atlas_mpi(options, rank, ranks);
-  } catch (const CLI::ParseError& error) {
-    code = app.exit(error) == 0 ? 0 : 2;
-  } catch (const robomill::InputError& error) {
-    if (rank == 0)
-      std::cerr << "robomill: error: " << error.what() << '\n';
-    code = 2;
-  } catch (const std::exception& error) {
-    std::cerr << "robomill: failed (rank " << rank << "): " << error.what() << '\n';
-    code = 1;
-  }
-  if (code != 0)
-    MPI_Abort(MPI_COMM_WORLD, code);  // workers may wait for rank 0
-  MPI_Finalize();
-  return code;
-}
-#endif  // ROBOMILL_WITH_MPI

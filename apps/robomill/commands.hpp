@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "robomill/atlas/store.hpp"
 #include "robomill/io/csv.hpp"
 #include "robomill/io/job.hpp"
 
@@ -131,5 +132,9 @@ struct AtlasOptions {
   bool restart = false;  ///< discard a store written by another job
 };
 int run_atlas(const AtlasOptions& options);
+
+/// The job as an atlas store records it (its hash decides whether a store may
+/// be resumed): the job file's bytes, then each --set.
+atlas::StoreIdentity atlas_store_identity(const JobCommandOptions& options, int dof);
 
 }  // namespace robomill::app

@@ -9,6 +9,9 @@
 #include <string>
 
 #include "commands.hpp"
+#ifdef ROBOMILL_WITH_MPI
+#include "atlas_mpi.hpp"
+#endif
 #include "robomill/core/error.hpp"
 
 namespace {
@@ -40,9 +43,9 @@ CLI::App* add_job_command(CLI::App& app, const std::string& name, const std::str
   return command;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+/// The command line, run by every MPI rank when started by mpirun (only the
+/// atlas uses the ranks; rank 0 alone reports invalid input).
+int run(int argc, char** argv, int rank, int ranks) {
   CLI::App app{"robomill — predicts and plans robotic milling"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "robomill 0.1.0");
@@ -204,6 +207,16 @@ int main(int argc, char** argv) {
   }
 
   try {
+    if (atlas_command->parsed() && atlas_options.export_dir.empty() && ranks > 1) {
+#ifdef ROBOMILL_WITH_MPI
+      return robomill::app::run_atlas_mpi(atlas_options, rank, ranks);
+#endif
+    }
+    if (ranks > 1) {
+      throw robomill::InputError(
+          "mpirun", 0,
+          "only `robomill atlas JOB` runs over MPI ranks; start this command without mpirun");
+    }
     if (validate->parsed())
       return robomill::app::run_validate(validate_options);
     if (forces->parsed())
@@ -231,7 +244,8 @@ int main(int argc, char** argv) {
     if (atlas_command->parsed())
       return robomill::app::run_atlas(atlas_options);
   } catch (const robomill::InputError& error) {
-    std::cerr << "robomill: error: " << error.what() << '\n';
+    if (rank == 0)
+      std::cerr << "robomill: error: " << error.what() << '\n';
     return kExitInvalidInput;
   } catch (const std::invalid_argument& error) {
     // Model constructors reject what the parser let through (it should not).
@@ -242,4 +256,15 @@ int main(int argc, char** argv) {
     return kExitFailure;
   }
   return kExitFailure;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+#ifdef ROBOMILL_WITH_MPI
+  robomill::app::MpiSession mpi(argc, argv);
+  return mpi.exit(run(argc, argv, mpi.rank(), mpi.ranks()));
+#else
+  return run(argc, argv, 0, 1);
+#endif
 }

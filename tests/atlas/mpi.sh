@@ -1,17 +1,16 @@
 #!/usr/bin/env bash
-# robomill_atlas_mpi over 2 MPI ranks (rank 0 deals items and computes, rank 1
+# `mpirun -np 2 robomill atlas` (rank 0 deals items and computes, rank 1
 # computes) gives the same store as the threaded `robomill atlas`, and a
 # re-run on the complete store computes nothing. Registered only when MPI was
-# found (tests/CMakeLists.txt). Args: robomill, source dir, robomill_atlas_mpi, mpiexec.
+# found (tests/CMakeLists.txt). Args: robomill, source dir, mpiexec.
 source "$2/tests/cli/lib.bash"
-MPI_BIN=$3
-MPIEXEC=$4
+MPIEXEC=$3
 BASE="$SOURCE/examples/003_kr270_atlas.yaml"
 sed -e "s|counts: \[5, 5, 1\]|counts: [4, 3, 1]|" -e "s|count: 100}|count: 30}|" \
   -e "s|store: .*|store: mpi.sqlite|" "$BASE" > "$WORK/mpi.yaml"
 sed -e "s|store: .*|store: threads.sqlite|" "$WORK/mpi.yaml" > "$WORK/threads.yaml"
 run_mpi() {
-  "$MPIEXEC" --allow-run-as-root --oversubscribe -np 2 "$MPI_BIN" "$@"
+  "$MPIEXEC" --allow-run-as-root --oversubscribe -np 2 "$ROBOMILL" atlas "$@"
 }
 out=$(run_mpi "$WORK/mpi.yaml" 2>&1) || fail "mpirun -np 2: $out"
 case "$out" in *"36 items computed"*"2 MPI ranks"*) ;; *) fail "MPI run output: $out" ;; esac
@@ -25,4 +24,8 @@ case "$out" in *"0 items computed"*"36 were already"*) ;; *) fail "MPI re-run co
 # Another job on the store: exit 2 naming --restart.
 out=$(run_mpi "$WORK/mpi.yaml" --set atlas.depth_max=4 2>&1) && fail "mismatch accepted: $out"
 case "$out" in *"--restart"*) ;; *) fail "MPI mismatch message: $out" ;; esac
+# Other commands refuse to run once per rank.
+out=$("$MPIEXEC" --allow-run-as-root --oversubscribe -np 2 "$ROBOMILL" validate "$WORK/mpi.yaml" 2>&1) \
+  && fail "validate over 2 ranks accepted: $out"
+case "$out" in *"only \`robomill atlas JOB\` runs over MPI ranks"*) ;; *) fail "non-atlas over MPI: $out" ;; esac
 finish
