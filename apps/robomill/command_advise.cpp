@@ -320,7 +320,7 @@ int run_advise(const JobCommandOptions& options) {
     bundle.add("advice.json", io::summary_text(document));
     bundle.add("summary.json", io::summary_text(summary));
   }
-  bundle.commit();
+  commit_outputs(bundle, &job, options.quiet);
 
   if (!options.quiet) {
     if (advice.feasible) {

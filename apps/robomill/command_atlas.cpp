@@ -146,7 +146,7 @@ int export_store(const AtlasOptions& options, const io::Job& job,
   io::OutputBundle bundle(options.export_dir);
   bundle.add("atlas.csv", table.to_string());
   bundle.add("summary.json", io::summary_text(summary));
-  bundle.commit();
+  commit_outputs(bundle, &job, options.job.quiet);
   if (!options.job.quiet) {
     std::cout << fmt::format("atlas: {} of {} items finished ({} reachable) → {}\n", rows.size(),
                              total, reachable, options.export_dir.string());

@@ -123,7 +123,7 @@ int run_deflection(const JobCommandOptions& options) {
     bundle.add("deflection.csv", table.to_string());
   if (job.output.json)
     bundle.add("summary.json", io::summary_text(summary));
-  bundle.commit();
+  commit_outputs(bundle, &job, options.quiet);
 
   if (!options.quiet) {
     std::cout << fmt::format(

@@ -133,7 +133,7 @@ int run_fit_modes(const JobCommandOptions& options) {
   bundle.add("modes.yaml", snippet);
   if (job.output.json)
     bundle.add("summary.json", io::summary_text(summary));
-  bundle.commit();
+  commit_outputs(bundle, &job, options.quiet);
 
   if (!options.quiet) {
     std::cout << fmt::format("fit-modes: {} FRF(s) fitted in {:.2f} s, {} modes\n",

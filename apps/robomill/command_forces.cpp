@@ -99,7 +99,7 @@ int run_forces(const JobCommandOptions& options) {
     bundle.add("forces.csv", force_table(series).to_string());
   if (job.output.json)
     bundle.add("summary.json", io::summary_text(summary));
-  bundle.commit();
+  commit_outputs(bundle, &job, options.quiet);
 
   if (!options.quiet) {
     std::cout << fmt::format(

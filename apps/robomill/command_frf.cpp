@@ -165,7 +165,7 @@ int run_frf(const FrfCommandOptions& options) {
                             {"files", files}};
   if (job.output.json)
     bundle.add("summary.json", io::summary_text(summary));
-  bundle.commit();
+  commit_outputs(bundle, &job, options.job.quiet);
   if (!options.job.quiet) {
     std::cout << fmt::format("frf: {} FRF(s), {} points {:g}-{:g} Hz, noise {:g} %\n", frfs.size(),
                              grid.size(), from_hz, grid.back(), 100.0 * options.noise)

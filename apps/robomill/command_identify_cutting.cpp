@@ -195,7 +195,7 @@ int run_identify_cutting(const IdentifyOptions& options) {
   bundle.add("fit.csv", table.to_string());
   bundle.add("cutting.yaml", snippet);
   bundle.add("summary.json", io::summary_text(summary));
-  bundle.commit();
+  commit_outputs(bundle, nullptr, options.quiet);
 
   if (!options.quiet) {
     std::cout << fmt::format(

@@ -305,7 +305,7 @@ int run_identify_stiffness(const IdentifyStiffnessOptions& options) {
   bundle.add("summary.json", io::summary_text(summary));
   bundle.add("fit.csv", fit.to_string());
   bundle.add("joint_stiffness.yaml", snippet.str());
-  bundle.commit();
+  commit_outputs(bundle, &job, options.job.quiet);
 
   if (!options.job.quiet) {
     std::cout << fmt::format(

@@ -304,7 +304,7 @@ int run_robot(const JobCommandOptions& options) {
   }
   if (job.output.json)
     bundle.add("summary.json", io::summary_text(summary));
-  bundle.commit();
+  commit_outputs(bundle, &job, options.quiet);
 
   if (!options.quiet) {
     std::cout << fmt::format("robot {} ({} joints): tool at [{:.1f}, {:.1f}, {:.1f}] mm",

@@ -312,7 +312,7 @@ int run_simulate(const JobCommandOptions& options) {
   }
   if (job.output.json)
     bundle.add("summary.json", io::summary_text(summary));
-  bundle.commit();
+  commit_outputs(bundle, &job, options.quiet);
 
   if (!options.quiet) {
     std::cout << fmt::format(

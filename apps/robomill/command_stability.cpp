@@ -523,7 +523,7 @@ int run_stability(const JobCommandOptions& options) {
   }
   if (job.output.json)
     bundle.add("summary.json", io::summary_text(summary));
-  bundle.commit();
+  commit_outputs(bundle, &job, options.quiet);
 
   if (!options.quiet) {
     const nlohmann::json figures = diagram_summary(primary);

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "robomill/io/job.hpp"
+#include "robomill/io/output_bundle.hpp"
 
 namespace robomill::app {
 
@@ -27,6 +28,13 @@ io::Job load(const JobCommandOptions& options);
 /// (relative to the job file), else out/<command>.
 std::filesystem::path output_dir(const JobCommandOptions& options, const io::Job& job,
                                  const std::string& command);
+
+/// Commits a command's output bundle. With a job it adds inputs.json (the
+/// job's key inputs, report/key_inputs.hpp); unless `quiet` or the job's
+/// output.formats leaves html out, it adds report.html rendered from the
+/// staged files (report::render_html), all in the same atomic commit. A
+/// report that cannot be rendered is a warning, never lost results.
+void commit_outputs(io::OutputBundle& bundle, const io::Job* job, bool quiet);
 
 int run_validate(const JobCommandOptions& options);
 int run_forces(const JobCommandOptions& options);
@@ -82,5 +90,12 @@ struct AtlasOptions {
   bool restart = false;  ///< discard a store written by another job
 };
 int run_atlas(const AtlasOptions& options);
+
+/// `robomill report OUTDIR`: report.html rebuilt from a command's output folder.
+struct ReportOptions {
+  std::filesystem::path dir;
+  bool quiet = false;
+};
+int run_report(const ReportOptions& options);
 
 }  // namespace robomill::app

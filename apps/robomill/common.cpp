@@ -3,6 +3,8 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "robomill/report/key_inputs.hpp"
+#include "robomill/report/report.hpp"
 
 namespace robomill::app {
 
@@ -22,6 +24,28 @@ std::filesystem::path output_dir(const JobCommandOptions& options, const io::Job
   if (!job.output.dir.empty())
     return job.resolve(job.output.dir);
   return std::filesystem::path("out") / command;
+}
+
+void commit_outputs(io::OutputBundle& bundle, const io::Job* job, bool quiet) {
+  if (job)
+    bundle.add("inputs.json", report::key_inputs_json(*job));
+  const bool html = !quiet && (job == nullptr || job->output.html);
+  report::Files files;
+  bool has_summary = false;
+  if (html) {
+    for (const auto& [name, content] : bundle.staged()) {
+      files[name] = content;
+      has_summary = has_summary || name == "summary.json";
+    }
+  }
+  if (has_summary) {
+    try {
+      bundle.add("report.html", report::render_html(files));
+    } catch (const std::exception& error) {
+      std::cerr << "robomill: warning: report.html not written: " << error.what() << '\n';
+    }
+  }
+  bundle.commit();
 }
 
 int run_validate(const JobCommandOptions& options) {

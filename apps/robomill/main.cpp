@@ -196,6 +196,12 @@ int main(int argc, char** argv) {
   atlas_command->add_flag("--restart", atlas_options.restart,
                           "discard a store written by another job or version and start over");
 
+  robomill::app::ReportOptions report_options;
+  CLI::App* report = app.add_subcommand(
+      "report", "rebuild report.html from a command's output folder (its summary.json and files)");
+  report->add_option("OUTDIR", report_options.dir, "a command's output folder")->required();
+  report->add_flag("--quiet", report_options.quiet, "print nothing but errors");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
@@ -230,6 +236,8 @@ int main(int argc, char** argv) {
       return robomill::app::run_frf(frf_options);
     if (atlas_command->parsed())
       return robomill::app::run_atlas(atlas_options);
+    if (report->parsed())
+      return robomill::app::run_report(report_options);
   } catch (const robomill::InputError& error) {
     std::cerr << "robomill: error: " << error.what() << '\n';
     return kExitInvalidInput;
