@@ -243,6 +243,7 @@ Figure bode(const std::string& title, const std::vector<Curve>& curves,
   stack(figure, "frequency (Hz)", {"magnitude (" + magnitude_unit + ")", "phase (°)"}, {2.0, 1.0});
   figure.layout["yaxis"]["type"] = "log";
   figure.layout["yaxis"]["exponentformat"] = "power";
+  figure.layout["yaxis"]["dtick"] = 1;
   for (std::size_t c = 0; c < curves.size(); ++c) {
     const Curve& curve = curves[c];
     const std::vector<std::size_t> at = thin(curve.frequency_hz.size(), kMaxPoints);
@@ -256,10 +257,14 @@ Figure bode(const std::string& title, const std::vector<Curve>& curves,
     json m = trace(f, mag, curve.name, curve.markers ? "markers" : "lines");
     json p = trace(f, phase, curve.name, curve.markers ? "markers" : "lines");
     for (json* t : {&m, &p}) {
-      if (curve.markers)
-        (*t)["marker"] = {{"color", color(c)}, {"size", 3}, {"opacity", 0.55}};
-      else
-        (*t)["line"] = {{"color", color(c)}, {"width", 1.8}};
+      // Measured: a broad pale band; fitted or synthesized: a thin line on it.
+      if (curve.markers) {
+        (*t)["mode"] = "lines";
+        (*t)["line"] = {{"color", "#7fa7d6"}, {"width", 5}};
+        (*t)["opacity"] = 0.75;
+      } else {
+        (*t)["line"] = {{"color", color(curves.size() == 2 && c == 1 ? 1 : c)}, {"width", 1.6}};
+      }
       (*t)["legendgroup"] = curve.name;
     }
     p["showlegend"] = false;
@@ -658,9 +663,12 @@ void atlas(const Outputs& o, Content& c) {
       c.figures.push_back(std::move(*m));
     }
   }
-  if (const auto reach = grid_map(*t, coords, "reachable", "Atlas: reachable items", "")) {
-    c.figures.push_back(std::move(*reach));
-  }
+  const std::vector<double> reachable = t->numbers("reachable");
+  const bool some_unreachable =
+      std::any_of(reachable.begin(), reachable.end(), [](double r) { return r == 0.0; });
+  if (some_unreachable)
+    if (auto reach = grid_map(*t, coords, "reachable", "Atlas: reachable items (1 yes, 0 no)", ""))
+      c.figures.push_back(std::move(*reach));
 }
 
 void optimize(const Outputs& o, Content& c) {
@@ -669,7 +677,9 @@ void optimize(const Outputs& o, Content& c) {
   if (const auto t = o.table("landscape.csv", c, false)) {
     for (const char* value : {"dm_mm", "max_mm"}) {
       auto m = grid_map(*t, {"x_mm", "y_mm", "theta_deg"}, value,
-                        std::string("Objective landscape: ") + column_quantity(value));
+                        std::string("Landscape: ") + (value == std::string("dm_mm")
+                                                          ? "mean tool offset dm (the objective)"
+                                                          : "largest tool offset along the path"));
       if (!m)
         continue;
       m->caption = "Over the workpiece position (x, y) on the table, per inclination θ. " +
@@ -692,8 +702,16 @@ void optimize(const Outputs& o, Content& c) {
     Figure f = xy_figure("Optimization history", "evaluation", axis_title(objective));
     f.caption =
         "Objective of every evaluated pose (global search, then local polish) and the "
-        "best so far.";
-    const auto n = t->numbers("evaluation"), v = t->numbers(objective), phase = t->numbers("phase");
+        "best so far; poses out of reach are left out.";
+    const auto n = t->numbers("evaluation"), phase = t->numbers("phase");
+    // Unreachable poses carry a penalty value, not an offset: leave them out.
+    std::vector<double> v = t->numbers(objective);
+    if (t->has("reachable")) {
+      const std::vector<double> reachable = t->numbers("reachable");
+      for (std::size_t i = 0; i < v.size(); ++i)
+        if (reachable[i] == 0.0)
+          v[i] = std::nan("");
+    }
     for (int p = 0; p < 2; ++p) {
       std::vector<double> x, y;
       for (std::size_t i = 0; i < n.size(); ++i)
@@ -841,6 +859,7 @@ void simulate(const Outputs& o, Content& c) {
     f.layout["yaxis"]["type"] = "log";
     f.layout["yaxis2"]["type"] = "log";
     f.layout["yaxis"]["exponentformat"] = f.layout["yaxis2"]["exponentformat"] = "power";
+    f.layout["yaxis"]["dtick"] = f.layout["yaxis2"]["dtick"] = 1;
     std::size_t k = 0;
     for (const char* col : {"fx_N", "fy_N", "fz_N"})
       if (t->any_nonzero(col))

@@ -211,6 +211,7 @@ const std::map<std::string, std::string>& quantity_names() {
       {"ap", "axial depth ap"},
       {"ae", "radial depth ae"},
       {"dm", "mean tool offset dm"},
+      {"max", "largest tool offset"},
       {"zeta", "damping ratio ζ"},
       {"k", "modal stiffness k"},
       {"m", "modal mass m"},
@@ -313,6 +314,7 @@ nlohmann::json axis(const std::string& title, bool log) {
   if (log) {
     a["type"] = "log";
     a["exponentformat"] = "power";
+    a["dtick"] = 1;  // a label per decade, not the 2 and 5 between
   }
   return a;
 }

@@ -26,7 +26,7 @@ check_report() {
 "$ROBOMILL" forces "$EX/demo.yaml" --out "$WORK/forces" > /dev/null || fail "forces exit code"
 check_report "$WORK/forces/report.html" forces
 grep -q '<h2>Key inputs</h2>' "$WORK/forces/report.html" || fail "forces: no key-inputs table"
-grep -q '855 N/mm' "$WORK/forces/report.html" || fail "forces: Ktc missing from the inputs"
+grep -q '855, 270.9, 0 N/mm²' "$WORK/forces/report.html" || fail "forces: Ktc, Krc, Kac missing from the inputs"
 grep -q 'force (N)' "$WORK/forces/report.html" || fail "forces: axis title with unit missing"
 [ -s "$WORK/forces/inputs.json" ] || fail "forces: no inputs.json"
 ls -A "$WORK/forces" | grep -q '^\.' && fail "temporary files left in $WORK/forces"
