@@ -51,6 +51,32 @@ std::vector<double> positive_or_gap(std::vector<double> v) {
   return v;
 }
 
+/// A log axis showing `decades` below the largest value (spectra span 15
+/// decades of round-off below their peaks; what matters is near the top).
+void log_range(json& axis_json, const std::vector<std::vector<double>>& series, double decades) {
+  double peak = 0.0;
+  for (const auto& v : series)
+    for (double x : v)
+      if (std::isfinite(x) && x > peak)
+        peak = x;
+  if (!(peak > 0.0))
+    return;
+  const double top = std::log10(peak) + 0.3;
+  axis_json["range"] = {rounded(top - decades - 0.3), rounded(top)};
+}
+
+/// A column with the rows whose `reachable` column is 0 as gaps.
+std::vector<double> reachable_only(const Table& t, const std::string& column) {
+  std::vector<double> v = t.numbers(column);
+  if (t.has("reachable")) {
+    const std::vector<double> reachable = t.numbers("reachable");
+    for (std::size_t i = 0; i < v.size(); ++i)
+      if (reachable[i] == 0.0)
+        v[i] = std::nan("");
+  }
+  return v;
+}
+
 double summary_number(const json& summary, const std::string& key,
                       const std::string& sub = std::string()) {
   const json* node = &summary;
@@ -752,7 +778,8 @@ void optimize(const Outputs& o, Content& c) {
     std::size_t k = 0;
     for (const std::string& pose : t->distinct("pose")) {
       const Table part = t->where("pose", pose);
-      f.data.push_back(line_trace(part.numbers("point"), part.numbers(value), "pose " + pose, k++));
+      f.data.push_back(
+          line_trace(part.numbers("point"), reachable_only(part, value), "pose " + pose, k++));
       f.data.back()["mode"] = "lines+markers";
       if (k == 8)
         break;
@@ -801,19 +828,19 @@ void advise(const Outputs& o, Content& c) {
     f.title = "Redundancy angle study";
     f.caption =
         "Along the path: the minimum limiting depth and the lowest natural frequency "
-        "over the redundancy angle, per path point.";
+        "over the redundancy angle, per path point (gaps: out of reach).";
     stack(f, "redundancy angle (°)",
           {"minimum limiting depth (mm)", "lowest natural frequency (Hz)"});
     const std::vector<std::string> points = t->distinct("point");
     std::size_t k = 0;
     for (const std::string& p : points) {
       const Table part = t->where("point", p);
-      f.data.push_back(
-          line_trace(part.numbers("angle_deg"), part.numbers("min_limit_mm"), "point " + p, k));
+      f.data.push_back(line_trace(part.numbers("angle_deg"), reachable_only(part, "min_limit_mm"),
+                                  "point " + p, k));
       f.data.back()["legendgroup"] = p;
       if (part.has("lowest_fn_hz")) {
-        json fn =
-            line_trace(part.numbers("angle_deg"), part.numbers("lowest_fn_hz"), "point " + p, k);
+        json fn = line_trace(part.numbers("angle_deg"), reachable_only(part, "lowest_fn_hz"),
+                             "point " + p, k);
         fn["showlegend"] = false;
         fn["legendgroup"] = p;
         f.data.push_back(on_row(fn, 1));
@@ -861,17 +888,23 @@ void simulate(const Outputs& o, Content& c) {
     f.layout["yaxis"]["exponentformat"] = f.layout["yaxis2"]["exponentformat"] = "power";
     f.layout["yaxis"]["dtick"] = f.layout["yaxis2"]["dtick"] = 1;
     std::size_t k = 0;
+    std::vector<std::vector<double>> forces_seen, displacements_seen;
     for (const char* col : {"fx_N", "fy_N", "fz_N"})
-      if (t->any_nonzero(col))
+      if (t->any_nonzero(col)) {
+        forces_seen.push_back(t->numbers(col));
         f.data.push_back(
             line_trace(freq, positive_or_gap(t->numbers(col)), column_quantity(col), k++));
+      }
     k = 3;
     for (const char* col : {"x_mm", "y_mm", "z_mm"})
       if (t->any_nonzero(col)) {
+        displacements_seen.push_back(t->numbers(col));
         json d = line_trace(freq, positive_or_gap(t->numbers(col)),
                             std::string("displacement ") + col[0], k++);
         f.data.push_back(on_row(d, 1));
       }
+    log_range(f.layout["yaxis"], forces_seen, 6.0);
+    log_range(f.layout["yaxis2"], displacements_seen, 6.0);
     if (std::isfinite(chatter_hz))
       vertical_marker(f, chatter_hz, fmt::format("chatter {} Hz", display(chatter_hz)));
     if (!f.data.empty())
