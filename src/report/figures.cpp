@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <set>
@@ -261,23 +262,65 @@ struct Curve {
   bool markers = false;
 };
 
-/// Magnitude (log) over phase (deg) of several FRFs.
+/// Indices of at most about `limit` samples of an increasing positive grid,
+/// evenly spaced in log frequency (dense where a log axis needs them).
+std::vector<std::size_t> thin_log(const std::vector<double>& f, std::size_t limit) {
+  std::vector<std::size_t> at;
+  double last = 0.0;
+  double ratio = 1.0;
+  for (double x : f)
+    if (x > 0.0 && std::isfinite(x)) {
+      ratio = std::pow(f.back() / x, 1.0 / static_cast<double>(limit));
+      break;
+    }
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    if (!(f[i] > 0.0))
+      continue;
+    if (at.empty() || f[i] >= last * ratio || i + 1 == f.size()) {
+      at.push_back(i);
+      last = f[i];
+    }
+  }
+  return at;
+}
+
+/// Magnitude (log) over phase (deg) of several FRFs; a log frequency axis
+/// when the grid spans more than two decades (robot modes at 20 Hz next to
+/// the tool's at 4 kHz).
 Figure bode(const std::string& title, const std::vector<Curve>& curves,
             const std::string& magnitude_unit) {
   Figure figure;
   figure.title = title;
   stack(figure, "frequency (Hz)", {"magnitude (" + magnitude_unit + ")", "phase (°)"}, {2.0, 1.0});
+  double f_low = std::numeric_limits<double>::infinity(), f_high = 0.0;
+  for (const Curve& curve : curves)
+    for (double x : curve.frequency_hz)
+      if (x > 0.0 && std::isfinite(x))
+        f_low = std::min(f_low, x), f_high = std::max(f_high, x);
+  const bool log_x = f_high > 100.0 * f_low;
+  if (log_x) {
+    figure.layout["xaxis"]["type"] = figure.layout["xaxis2"]["type"] = "log";
+    figure.layout["xaxis2"]["exponentformat"] = "power";
+  }
   figure.layout["yaxis"]["type"] = "log";
   figure.layout["yaxis"]["exponentformat"] = "power";
   figure.layout["yaxis"]["dtick"] = 1;
   for (std::size_t c = 0; c < curves.size(); ++c) {
     const Curve& curve = curves[c];
-    const std::vector<std::size_t> at = thin(curve.frequency_hz.size(), kMaxPoints);
+    const std::vector<std::size_t> at = log_x ? thin_log(curve.frequency_hz, kMaxPoints)
+                                              : thin(curve.frequency_hz.size(), kMaxPoints);
     std::vector<double> f, mag, phase;
     for (std::size_t i : at) {
       f.push_back(curve.frequency_hz[i]);
       mag.push_back(std::abs(curve.value[i]));
       phase.push_back(std::arg(curve.value[i]) * 180.0 / std::numbers::pi);
+    }
+    // Unwrapped, so that noise around ±180° does not draw a jump of 360°.
+    for (std::size_t i = 1; i < phase.size(); ++i) {
+      while (phase[i] - phase[i - 1] > 180.0)
+        phase[i] -= 360.0;
+      while (phase[i] - phase[i - 1] < -180.0)
+        phase[i] += 360.0;
     }
     mag = positive_or_gap(mag);
     json m = trace(f, mag, curve.name, curve.markers ? "markers" : "lines");
