@@ -462,7 +462,7 @@ void stability(const Outputs& o, Content& c) {
       if (col.rfind("depth_limit", 0) != 0)
         continue;
       std::string name =
-          col == "depth_limit_mm" ? "limiting depth" : "limit, " + col.substr(12, col.size() - 15);
+          col == "depth_limit_mm" ? "limiting depth" : "limit, " + column_quantity(col.substr(12));
       f.data.push_back(line_trace(rpm, sld->numbers(col), name, k));
       const std::string freq_col = col == "depth_limit_mm"
                                        ? "chatter_freq_hz"
@@ -497,9 +497,10 @@ void stability(const Outputs& o, Content& c) {
                           "Stability map: spectral radius")) {
       m->caption =
           "Spectral radius of the monodromy operator over speed and depth: below 1 "
-          "stable, above 1 chatter. The line is the limiting depth.";
+          "stable (blue), above 1 chatter (red). The line is the limiting depth.";
       for (auto& t : m->data)
-        t["zmid"] = 1.0, t["colorscale"] = "RdBu", t["reversescale"] = true;
+        t["zmin"] = 0.0, t["zmax"] = 2.0, t["colorscale"] = "RdBu",
+        t["colorbar"]["title"]["text"] = "spectral radius (colours clipped at 2)";
       if (sld && sld->has("depth_limit_mm")) {
         json line = line_trace(sld->numbers("spindle_rpm"), sld->numbers("depth_limit_mm"),
                                "limiting depth", 0);
