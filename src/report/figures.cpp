@@ -28,6 +28,19 @@ const char* color(std::size_t i) {
   return kColors[i % 8];
 }
 
+/// Colour `i` of `n` along Viridis (for sweeps: depth, speed).
+std::string sequential(std::size_t i, std::size_t n) {
+  static constexpr double stops[5][3] = {
+      {68, 1, 84}, {59, 82, 139}, {33, 145, 140}, {94, 201, 98}, {253, 231, 37}};
+  const double u = n > 1 ? 4.0 * static_cast<double>(i) / static_cast<double>(n - 1) : 0.0;
+  const std::size_t a = std::min<std::size_t>(3, static_cast<std::size_t>(u));
+  const double w = u - static_cast<double>(a);
+  auto mix = [&](int c) {
+    return static_cast<int>(std::lround(stops[a][c] * (1.0 - w) + stops[a + 1][c] * w));
+  };
+  return fmt::format("rgb({},{},{})", mix(0), mix(1), mix(2));
+}
+
 json line_trace(const std::vector<double>& x, const std::vector<double>& y, const std::string& name,
                 std::size_t color_index, const std::string& dash = "solid") {
   const std::vector<std::size_t> at = thin(x.size(), kMaxPoints);
@@ -975,6 +988,10 @@ void deflection(const Outputs& o, Content& c) {
     json dy = line_trace(part.numbers("z_mm"), part.numbers("dy_um"), name, k);
     dy["showlegend"] = false;
     dy["legendgroup"] = name;
+    // A sweep: shallow to deep from purple to yellow.
+    const std::string shade = sequential(k, depths.size());
+    profile.data.back()["line"]["color"] = shade;
+    dy["line"]["color"] = shade;
     profile.data.push_back(on_row(dy, 1));
     ++k;
   }
