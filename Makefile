@@ -35,6 +35,9 @@ test: test-release fuzz test-sanitize
 
 test-release: build
 	cd $(BUILD) && ctest --output-on-failure -j$(JOBS)
+	@if ls $(BUILD)/report-screenshots/*.png > /dev/null 2>&1; then \
+	  echo "browser.reports: screenshots of the example reports in $(BUILD)/report-screenshots/:"; \
+	  ls $(BUILD)/report-screenshots/*.png; fi
 
 sanitize-build: setup
 	cmake -S . -B $(ASAN_BUILD) -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \

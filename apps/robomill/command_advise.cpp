@@ -337,9 +337,10 @@ CommandResult compute_advise(const io::Job& job, int threads) {
 
 int run_advise(const JobCommandOptions& options) {
   const io::Job job = load(options);
-  const CommandResult result = compute_advise(job, options.threads);
+  CommandResult result = compute_advise(job, options.threads);
   const std::filesystem::path out = output_dir(options, job, "advise");
-  write_result(out, job.output, result);
+  add_key_inputs(result, job);
+  write_result(out, job.output, result, !options.quiet);
   if (!options.quiet)
     std::cout << result.message
               << fmt::format("  {:.2f} s; written to {}\n",

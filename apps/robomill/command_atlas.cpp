@@ -148,7 +148,8 @@ int export_store(const AtlasOptions& options, const io::Job& job,
   CommandResult result;
   result.tables.emplace_back("atlas", std::move(table));
   result.summary = std::move(summary);
-  write_result(options.export_dir, io::OutputSettings{}, result);
+  add_key_inputs(result, job);
+  write_result(options.export_dir, io::OutputSettings{}, result, !options.job.quiet);
   if (!options.job.quiet) {
     std::cout << fmt::format("atlas: {} of {} items finished ({} reachable) → {}\n", rows.size(),
                              total, reachable, options.export_dir.string());

@@ -130,9 +130,10 @@ CommandResult compute_deflection(io::Job job, int threads) {
 
 int run_deflection(const JobCommandOptions& options) {
   const io::Job job = load(options);
-  const CommandResult result = compute_deflection(job, options.threads);
+  CommandResult result = compute_deflection(job, options.threads);
   const std::filesystem::path out = output_dir(options, job, "deflection");
-  write_result(out, job.output, result);
+  add_key_inputs(result, job);
+  write_result(out, job.output, result, !options.quiet);
   if (!options.quiet)
     std::cout << result.message << "  written to " << out.string() << '\n';
   return 0;

@@ -145,9 +145,10 @@ CommandResult compute_fit_modes(const io::Job& job) {
 
 int run_fit_modes(const JobCommandOptions& options) {
   const io::Job job = load(options);
-  const CommandResult result = compute_fit_modes(job);
+  CommandResult result = compute_fit_modes(job);
   const std::filesystem::path out = output_dir(options, job, "fit-modes");
-  write_result(out, job.output, result);
+  add_key_inputs(result, job);
+  write_result(out, job.output, result, !options.quiet);
   if (!options.quiet)
     std::cout << result.message << "  written to " << out.string() << '\n';
   return 0;

@@ -169,9 +169,10 @@ CommandResult compute_frf(const io::Job& job, const FrfCommandOptions& options) 
 
 int run_frf(const FrfCommandOptions& options) {
   const io::Job job = load(options.job);
-  const CommandResult result = compute_frf(job, options);
+  CommandResult result = compute_frf(job, options);
   const std::filesystem::path out = output_dir(options.job, job, "frf");
-  write_result(out, job.output, result);
+  add_key_inputs(result, job);
+  write_result(out, job.output, result, !options.job.quiet);
   if (!options.job.quiet)
     std::cout << result.message << "  written to " << out.string() << '\n';
   return 0;

@@ -207,7 +207,7 @@ int run_identify_cutting(const IdentifyOptions& options) {
   const CommandResult result = compute_identify_cutting(options);
   const std::filesystem::path out =
       options.out_dir.empty() ? std::filesystem::path("out/identify-cutting") : options.out_dir;
-  write_result(out, io::OutputSettings{}, result);
+  write_result(out, io::OutputSettings{}, result, !options.quiet);
   if (!options.quiet)
     std::cout << result.message << "  written to " << out.string() << '\n';
   return 0;

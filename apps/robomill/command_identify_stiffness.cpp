@@ -315,10 +315,11 @@ CommandResult compute_identify_stiffness(const io::Job& job,
 
 int run_identify_stiffness(const IdentifyStiffnessOptions& options) {
   const io::Job job = load(options.job);
-  const CommandResult result = compute_identify_stiffness(job, options);
+  CommandResult result = compute_identify_stiffness(job, options);
+  add_key_inputs(result, job);
   const std::filesystem::path out = output_dir(options.job, job, "identify-stiffness");
   // Written whatever the job's output: section says (the files are the result).
-  write_result(out, io::OutputSettings{}, result);
+  write_result(out, io::OutputSettings{}, result, !options.job.quiet);
   if (!options.job.quiet) {
     if (options.synthesize)
       std::cout << result.message << " → " << (out / "loading_tests.csv").string() << '\n';

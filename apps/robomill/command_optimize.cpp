@@ -252,9 +252,10 @@ CommandResult compute_optimize(const io::Job& job, int threads) {
 
 int run_optimize(const JobCommandOptions& options) {
   const io::Job job = load(options);
-  const CommandResult result = compute_optimize(job, options.threads);
+  CommandResult result = compute_optimize(job, options.threads);
   const std::filesystem::path out = output_dir(options, job, "optimize");
-  write_result(out, job.output, result);
+  add_key_inputs(result, job);
+  write_result(out, job.output, result, !options.quiet);
   if (!options.quiet)
     std::cout << result.message << "  written to " << out.string() << '\n';
   return 0;

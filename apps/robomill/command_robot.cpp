@@ -321,9 +321,10 @@ CommandResult compute_robot(const io::Job& job, int threads) {
 
 int run_robot(const JobCommandOptions& options) {
   const io::Job job = load(options);
-  const CommandResult result = compute_robot(job, options.threads);
+  CommandResult result = compute_robot(job, options.threads);
   const std::filesystem::path out = output_dir(options, job, "robot");
-  write_result(out, job.output, result);
+  add_key_inputs(result, job);
+  write_result(out, job.output, result, !options.quiet);
   if (!options.quiet)
     std::cout << result.message << "  written to " << out.string() << '\n';
   return 0;

@@ -340,9 +340,10 @@ CommandResult compute_simulate(const io::Job& job) {
 
 int run_simulate(const JobCommandOptions& options) {
   const io::Job job = load(options);
-  const CommandResult result = compute_simulate(job);
+  CommandResult result = compute_simulate(job);
   const std::filesystem::path out = output_dir(options, job, "simulate");
-  write_result(out, job.output, result);
+  add_key_inputs(result, job);
+  write_result(out, job.output, result, !options.quiet);
   if (!options.quiet)
     std::cout << result.message << "  wrote " << out.string() << '\n';
   return 0;

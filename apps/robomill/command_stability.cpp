@@ -531,9 +531,10 @@ CommandResult compute_stability(const io::Job& job, int threads) {
 
 int run_stability(const JobCommandOptions& options) {
   const io::Job job = load(options);
-  const CommandResult result = compute_stability(job, options.threads);
+  CommandResult result = compute_stability(job, options.threads);
   const std::filesystem::path out = output_dir(options, job, "stability");
-  write_result(out, job.output, result);
+  add_key_inputs(result, job);
+  write_result(out, job.output, result, !options.quiet);
   if (!options.quiet)
     std::cout << result.message << "  written to " << out.string() << '\n';
   return 0;

@@ -37,9 +37,15 @@ struct CommandResult {
 };
 
 /// Stages every file of a result in one io::OutputBundle under `out` and
-/// commits it (all files or none).
+/// commits it (all files or none). With `report` (the commands' default,
+/// off under --quiet) and the job's output.formats allowing html, adds
+/// report.html rendered from the staged files (report::render_html).
 void write_result(const std::filesystem::path& out, const io::OutputSettings& output,
-                  const CommandResult& result);
+                  const CommandResult& result, bool report = false);
+
+/// Adds the job's key inputs (report/key_inputs.hpp) to a result as the
+/// document "inputs" (inputs.json; the report's inputs table).
+void add_key_inputs(CommandResult& result, const io::Job& job);
 
 /// Options every job command shares (`robomill <command> JOB ...`).
 struct JobCommandOptions {
@@ -136,5 +142,12 @@ int run_atlas(const AtlasOptions& options);
 /// The job as an atlas store records it (its hash decides whether a store may
 /// be resumed): the job file's bytes, then each --set.
 atlas::StoreIdentity atlas_store_identity(const JobCommandOptions& options, int dof);
+
+/// `robomill report OUTDIR`: report.html rebuilt from a command's output folder.
+struct ReportOptions {
+  std::filesystem::path dir;
+  bool quiet = false;
+};
+int run_report(const ReportOptions& options);
 
 }  // namespace robomill::app

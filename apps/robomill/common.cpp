@@ -5,6 +5,8 @@
 #include "commands.hpp"
 #include "robomill/io/output_bundle.hpp"
 #include "robomill/io/summary.hpp"
+#include "robomill/report/key_inputs.hpp"
+#include "robomill/report/report.hpp"
 
 namespace robomill::app {
 
@@ -34,8 +36,12 @@ const io::CsvTable* CommandResult::table(const std::string& name) const {
   return nullptr;
 }
 
+void add_key_inputs(CommandResult& result, const io::Job& job) {
+  result.documents.emplace_back("inputs", nlohmann::json::parse(report::key_inputs_json(job)));
+}
+
 void write_result(const std::filesystem::path& out, const io::OutputSettings& output,
-                  const CommandResult& result) {
+                  const CommandResult& result, bool report) {
   io::OutputBundle bundle(out);
   if (output.csv) {
     for (const auto& [name, table] : result.tables)
@@ -48,6 +54,20 @@ void write_result(const std::filesystem::path& out, const io::OutputSettings& ou
       bundle.add(name + ".json", io::summary_text(document));
     if (!result.summary.is_null())
       bundle.add("summary.json", io::summary_text(result.summary));
+  }
+  // report.html from the staged files (the same function as `robomill
+  // report OUTDIR` on disk), in the same atomic commit. A report that cannot
+  // be rendered is a warning: the results are never lost for it.
+  if (report && output.html && !result.summary.is_null()) {
+    report::Files files;
+    files["summary.json"] = io::summary_text(result.summary);
+    for (const auto& [name, content] : bundle.staged())
+      files[name] = content;
+    try {
+      bundle.add("report.html", report::render_html(files));
+    } catch (const std::exception& error) {
+      std::cerr << "robomill: warning: report.html not written: " << error.what() << '\n';
+    }
   }
   bundle.commit();
 }

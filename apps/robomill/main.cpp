@@ -199,6 +199,12 @@ int run(int argc, char** argv, int rank, int ranks) {
   atlas_command->add_flag("--restart", atlas_options.restart,
                           "discard a store written by another job or version and start over");
 
+  robomill::app::ReportOptions report_options;
+  CLI::App* report = app.add_subcommand(
+      "report", "rebuild report.html from a command's output folder (its summary.json and files)");
+  report->add_option("OUTDIR", report_options.dir, "a command's output folder")->required();
+  report->add_flag("--quiet", report_options.quiet, "print nothing but errors");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
@@ -243,6 +249,8 @@ int run(int argc, char** argv, int rank, int ranks) {
       return robomill::app::run_frf(frf_options);
     if (atlas_command->parsed())
       return robomill::app::run_atlas(atlas_options);
+    if (report->parsed())
+      return robomill::app::run_report(report_options);
   } catch (const robomill::InputError& error) {
     if (rank == 0)
       std::cerr << "robomill: error: " << error.what() << '\n';

@@ -116,11 +116,13 @@ py::tuple to_python(const CommandResult& result) {
 /// (exactly as the command line does), and converts the result.
 template <class Compute>
 py::tuple run(Compute&& compute, const std::optional<std::filesystem::path>& out,
-              const robomill::io::OutputSettings& output) {
+              const robomill::io::OutputSettings& output, const robomill::io::Job* job) {
   CommandResult result;
   {
     py::gil_scoped_release release;
     result = compute();
+    if (job)
+      robomill::app::add_key_inputs(result, *job);
     if (out)
       robomill::app::write_result(*out, output, result);
   }
@@ -241,7 +243,7 @@ PYBIND11_MODULE(_robomill, m) {
         name,
         [compute](const JobHandle& handle, int threads, const Out& out) {
           const robomill::io::Job& job = job_of(handle);
-          return run([&] { return compute(job, threads); }, out, job.output);
+          return run([&] { return compute(job, threads); }, out, job.output, &job);
         },
         py::arg("job"), py::arg("threads") = 0, py::arg("out") = py::none());
   };
@@ -254,22 +256,22 @@ PYBIND11_MODULE(_robomill, m) {
       "deflection",
       [](const JobHandle& handle, int threads, const Out& out) {
         const robomill::io::Job& job = job_of(handle);
-        return run([&] { return robomill::app::compute_deflection(job, threads); }, out,
-                   job.output);
+        return run([&] { return robomill::app::compute_deflection(job, threads); }, out, job.output,
+                   &job);
       },
       py::arg("job"), py::arg("threads") = 0, py::arg("out") = py::none());
   m.def(
       "fit_modes",
       [](const JobHandle& handle, const Out& out) {
         const robomill::io::Job& job = job_of(handle);
-        return run([&] { return robomill::app::compute_fit_modes(job); }, out, job.output);
+        return run([&] { return robomill::app::compute_fit_modes(job); }, out, job.output, &job);
       },
       py::arg("job"), py::arg("out") = py::none());
   m.def(
       "simulate",
       [](const JobHandle& handle, const Out& out) {
         const robomill::io::Job& job = job_of(handle);
-        return run([&] { return robomill::app::compute_simulate(job); }, out, job.output);
+        return run([&] { return robomill::app::compute_simulate(job); }, out, job.output, &job);
       },
       py::arg("job"), py::arg("out") = py::none());
   m.def(
@@ -288,7 +290,7 @@ PYBIND11_MODULE(_robomill, m) {
         options.format = format;
         options.noise = noise;
         options.seed = seed;
-        return run([&] { return robomill::app::compute_frf(job, options); }, out, job.output);
+        return run([&] { return robomill::app::compute_frf(job, options); }, out, job.output, &job);
       },
       py::arg("job"), py::arg("from_"), py::arg("to"), py::arg("step"), py::arg("spacing"),
       py::arg("points"), py::arg("kind"), py::arg("format"), py::arg("noise"), py::arg("seed"),
@@ -309,7 +311,7 @@ PYBIND11_MODULE(_robomill, m) {
         options.direction = direction;
         options.measured_on = measured_on;
         return run([&] { return robomill::app::compute_identify_cutting(options); }, out,
-                   robomill::io::OutputSettings{});
+                   robomill::io::OutputSettings{}, nullptr);
       },
       py::arg("data"), py::arg("job_file"), py::arg("teeth"), py::arg("ap"), py::arg("ae"),
       py::arg("diameter"), py::arg("direction"), py::arg("measured_on"),
@@ -326,7 +328,7 @@ PYBIND11_MODULE(_robomill, m) {
         options.noise = noise;
         options.seed = seed;
         return run([&] { return robomill::app::compute_identify_stiffness(job, options); }, out,
-                   robomill::io::OutputSettings{});
+                   robomill::io::OutputSettings{}, &job);
       },
       py::arg("data"), py::arg("job"), py::arg("max_condition"), py::arg("synthesize"),
       py::arg("noise"), py::arg("seed"), py::arg("out") = py::none());

@@ -80,6 +80,13 @@ def test_dict_job_equals_file_job(cli, tmp_path):
     assert strip_timings(summary) == strip_timings(cli_summary)
     (tmp_path / "cli" / "summary.json").unlink()
     result.pop("summary")
+    # The key inputs name the job's source too: a file path, or <dict>.
+    cli_inputs = json.loads((tmp_path / "cli" / "inputs.json").read_text())
+    inputs = dict(result.pop("inputs"))
+    assert inputs.pop("job").endswith("<dict>")
+    del cli_inputs["job"]
+    assert inputs == cli_inputs
+    (tmp_path / "cli" / "inputs.json").unlink()
     assert_same_as_cli(result, tmp_path / "cli")
     # A dict is accepted wherever a job is.
     assert robomill.forces(DEMO_DICT)["summary"]["samples"] == 180

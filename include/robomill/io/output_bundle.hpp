@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace robomill::io {
@@ -24,6 +25,12 @@ class OutputBundle {
   /// name, flushes, then renames each into place. Throws robomill::Error with
   /// the path on any I/O failure, removing what it wrote.
   std::vector<std::filesystem::path> commit();
+
+  /// The files staged so far (name, content), in the order they were added.
+  const std::vector<std::pair<std::string, std::string>>& staged() const noexcept {
+    return staged_;
+  }
+  std::filesystem::path directory() const { return directory_; }
 
  private:
   std::filesystem::path directory_;

@@ -1,0 +1,110 @@
+#pragma once
+// Internals of report.html: CSV tables, axis titles from column names, and
+// Plotly figures as JSON (src/report/figures.cpp builds them per command,
+// src/report/page.cpp lays out the page).
+
+#include <cstddef>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "robomill/report/report.hpp"
+
+namespace robomill::report::detail {
+
+/// A CSV file with a header row, kept as text and read as numbers on demand.
+class Table {
+ public:
+  static std::optional<Table> parse(std::string_view text);
+
+  bool has(const std::string& column) const;
+  const std::vector<std::string>& columns() const { return names_; }
+  std::size_t rows() const { return rows_; }
+  /// A column's numbers (NaN where a cell is not a number); empty if absent.
+  std::vector<double> numbers(const std::string& column) const;
+  const std::vector<std::string>& text(const std::string& column) const;
+  /// The rows whose `column` reads `value`.
+  Table where(const std::string& column, const std::string& value) const;
+  /// A column's distinct texts in first-seen order.
+  std::vector<std::string> distinct(const std::string& column) const;
+  /// True if the column has a finite value other than zero.
+  bool any_nonzero(const std::string& column) const;
+
+ private:
+  std::vector<std::string> names_;
+  std::vector<std::vector<std::string>> cells_;  // by column
+  std::size_t rows_ = 0;
+};
+
+/// "depth_limit_mm" → "limiting depth (mm)", "k_N_per_m" → "k (N/m)".
+std::string axis_title(const std::string& column);
+/// The unit of a column name ("mm", "N/m"), empty when none is recognized.
+std::string column_unit(const std::string& column);
+/// The quantity of a column name without its unit ("limiting depth").
+std::string column_quantity(const std::string& column);
+
+/// Numbers as a JSON array rounded to 6 significant digits; NaN and
+/// infinities become null (a gap in Plotly), so no page ever holds NaN.
+nlohmann::json values(const std::vector<double>& numbers);
+/// Indices keeping at most `limit` of `count` samples, evenly strided.
+std::vector<std::size_t> thin(std::size_t count, std::size_t limit);
+std::vector<double> pick(const std::vector<double>& numbers, const std::vector<std::size_t>& at);
+double rounded(double value);
+
+/// A Plotly figure: data traces and a layout, with a title and a caption.
+struct Figure {
+  std::string title;
+  std::string caption;
+  nlohmann::json data = nlohmann::json::array();
+  nlohmann::json layout = nlohmann::json::object();
+  int height_px = 460;
+};
+
+/// A scatter trace (lines by default) of x and y.
+nlohmann::json trace(const std::vector<double>& x, const std::vector<double>& y,
+                     const std::string& name, const std::string& mode = "lines");
+/// An axis with a title (units included) and optional log type.
+nlohmann::json axis(const std::string& title, bool log = false);
+/// A figure of lines over one x axis.
+Figure xy_figure(const std::string& title, const std::string& x_title, const std::string& y_title);
+/// Stacks `rows` y axes (top first) over one shared x axis: layout axes
+/// xaxis/yaxis, xaxis2/yaxis2 ... with the given titles and relative heights.
+void stack(Figure& figure, const std::string& x_title, const std::vector<std::string>& y_titles,
+           const std::vector<double>& weights = {});
+/// Sends a trace to row `row` (0-based) of a stacked figure.
+nlohmann::json& on_row(nlohmann::json& trace, int row);
+
+/// A small table for the page: header and rows of display strings.
+struct TextTable {
+  std::string title;
+  std::vector<std::string> header;
+  std::vector<std::vector<std::string>> rows;
+};
+
+/// What a command contributes to the page.
+struct Content {
+  std::vector<Figure> figures;
+  std::vector<TextTable> tables;
+  std::vector<std::string> notes;  ///< figures left out and why
+};
+
+/// The inputs of the figure builders: the files and the parsed summary.
+struct Outputs {
+  const Files& files;
+  nlohmann::json summary;
+  std::string command;
+  /// A CSV output parsed, or nullopt (with a note) when absent or malformed.
+  std::optional<Table> table(const std::string& name, Content& content, bool required = true) const;
+};
+
+/// The figures and tables of `outputs.command` (figures.cpp).
+Content build_content(const Outputs& outputs);
+/// Every numeric column of a table over its first column: the fallback for
+/// commands without dedicated figures.
+void generic_figures(const std::string& file, const Table& table, Content& content);
+/// Number formatting for tables: 4 significant digits, "—" for non-finite.
+std::string display(double value);
+
+}  // namespace robomill::report::detail

@@ -1,0 +1,201 @@
+#include "robomill/report/key_inputs.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <numbers>
+#include <string>
+#include <type_traits>
+#include <variant>
+
+namespace robomill::report {
+namespace {
+
+constexpr double kDeg = 180.0 / std::numbers::pi;
+constexpr double kRpm = 60.0 / (2.0 * std::numbers::pi);
+
+std::string num(double value) {
+  return std::isfinite(value) ? fmt::format("{:.4g}", value) : std::string("—");
+}
+
+std::string with_unit(double value, const char* unit) {
+  return num(value) + " " + unit;
+}
+
+std::string list(const std::vector<double>& values, double scale, const char* unit) {
+  std::string text = "[";
+  for (std::size_t i = 0; i < values.size(); ++i)
+    text += (i ? ", " : "") + num(values[i] * scale);
+  return text + "] " + unit;
+}
+
+class Rows {
+ public:
+  void add(const std::string& group, const std::string& name, const std::string& value) {
+    rows_.push_back({{"group", group}, {"name", name}, {"value", value}});
+  }
+  nlohmann::json take() { return std::move(rows_); }
+
+ private:
+  nlohmann::json rows_ = nlohmann::json::array();
+};
+
+void add_cutting(Rows& rows, const cutting::CuttingLaw& law) {
+  rows.add("cutting", "law", std::string(cutting::law_name(law)));
+  std::visit(
+      [&](const auto& l) {
+        using Law = std::decay_t<decltype(l)>;
+        if constexpr (std::is_same_v<Law, cutting::LinearLaw>) {
+          rows.add("cutting", "Ktc, Krc, Kac",
+                   fmt::format("{}, {}, {} N/mm²", num(l.Ktc_pa * 1e-6), num(l.Krc_pa * 1e-6),
+                               num(l.Kac_pa * 1e-6)));
+          rows.add("cutting", "Kte, Kre, Kae",
+                   fmt::format("{}, {}, {} N/mm", num(l.Kte_n_per_m * 1e-3),
+                               num(l.Kre_n_per_m * 1e-3), num(l.Kae_n_per_m * 1e-3)));
+        } else if constexpr (std::is_same_v<Law, cutting::ExponentialLaw>) {
+          rows.add("cutting", "kF", with_unit(l.kF_n_per_m * 1e-3, "N/mm"));
+          rows.add("cutting", "exponent m", num(l.exponent));
+          rows.add("cutting", "h_ref", with_unit(l.reference_chip_m * 1e3, "mm"));
+          rows.add("cutting", "kr, ka", num(l.radial_ratio) + ", " + num(l.axial_ratio));
+        } else if constexpr (std::is_same_v<Law, cutting::FractionalLaw>) {
+          rows.add("cutting", "k0", with_unit(l.k0_n_per_m * 1e-3, "N/mm"));
+          rows.add("cutting", "hs", with_unit(l.hs_m * 1e3, "mm"));
+          rows.add("cutting", "r", num(l.r));
+          rows.add("cutting", "kr, ka", num(l.radial_ratio) + ", " + num(l.axial_ratio));
+        } else {
+          rows.add("cutting", "kc1", with_unit(l.kc1_pa * 1e-6, "N/mm²"));
+          rows.add("cutting", "b1, kc2, b2", num(l.b1) + ", " + num(l.kc2) + ", " + num(l.b2));
+          rows.add("cutting", "h_ref", with_unit(l.reference_chip_m * 1e3, "mm"));
+        }
+      },
+      law);
+}
+
+const char* method_name(io::StabilitySettings::Method method) {
+  switch (method) {
+    case io::StabilitySettings::Method::zoa:
+      return "zoa";
+    case io::StabilitySettings::Method::sdm:
+      return "sdm";
+    case io::StabilitySettings::Method::fdm:
+      return "fdm";
+    case io::StabilitySettings::Method::fdm2:
+      return "fdm2";
+  }
+  return "?";
+}
+
+}  // namespace
+
+std::string key_inputs_json(const io::Job& job) {
+  Rows rows;
+  if (job.tool) {
+    const tool::ToolSpec& t = *job.tool;
+    rows.add("tool", "type", t.type == tool::ToolType::ball ? "ball" : "flat");
+    rows.add("tool", "diameter", with_unit(t.diameter_m * 1e3, "mm"));
+    rows.add("tool", "teeth", std::to_string(t.teeth));
+    rows.add("tool", "helix", with_unit(t.helix_rad * kDeg, "°"));
+    if (t.overhang_m > 0.0)
+      rows.add("tool", "overhang", with_unit(t.overhang_m * 1e3, "mm"));
+    if (t.runout.offset_m != 0.0)
+      rows.add("tool", "runout",
+               fmt::format("{} µm at {}°", num(t.runout.offset_m * 1e6),
+                           num(t.runout.angle_rad * kDeg)));
+  }
+  if (job.cutting)
+    add_cutting(rows, *job.cutting);
+  if (job.process) {
+    const cutting::MillingProcess& p = *job.process;
+    rows.add("process", "spindle", with_unit(p.spindle_rad_s * kRpm, "rpm"));
+    rows.add("process", "feed per tooth", with_unit(p.feed_per_tooth_m * 1e3, "mm"));
+    rows.add("process", "ap (axial depth)", with_unit(p.axial_depth_m * 1e3, "mm"));
+    rows.add("process", "ae (radial depth)", with_unit(p.radial_depth_m * 1e3, "mm"));
+    rows.add("process", "direction", std::string(cutting::to_string(p.direction)));
+  }
+  rows.add("dynamics", "source", io::dynamics_source_name(job.dynamics_source));
+  for (std::size_t i = 0; i < job.modes.size() && i < 12; ++i) {
+    const io::ModeSpec& m = job.modes[i];
+    const std::string direction =
+        m.direction == 'v' ? fmt::format("[{}, {}, {}]", num(m.direction_vector.x()),
+                                         num(m.direction_vector.y()), num(m.direction_vector.z()))
+                           : std::string(1, m.direction);
+    rows.add("dynamics", fmt::format("mode {} ({})", i + 1, direction),
+             fmt::format("fn {} Hz, ζ {} %, k {} N/m", num(m.natural_frequency_hz),
+                         num(100.0 * m.damping_ratio), num(m.stiffness_n_per_m)));
+  }
+  if (job.modes.size() > 12)
+    rows.add("dynamics", "more modes", std::to_string(job.modes.size() - 12));
+  for (const io::FrfFileSpec& f : job.frf_files)
+    rows.add("dynamics", "FRF file", f.file.filename().string());
+  if (job.posture_library)
+    rows.add(
+        "dynamics", "posture library",
+        fmt::format("{} measured postures (IDW at {})", job.posture_library->postures_rad.size(),
+                    job.posture_library->query_source));
+  if (job.robot) {
+    const io::RobotSettings& r = *job.robot;
+    if (!r.description.name.empty())
+      rows.add("robot", "robot", r.description.name);
+    rows.add("robot", "joints", std::to_string(r.description.joints.size()));
+    if (!r.posture_rad.empty())
+      rows.add("robot", "posture", list(r.posture_rad, kDeg, "°"));
+    std::vector<double> stiffness;
+    for (const robot::JointProperties& joint : r.description.joints)
+      stiffness.push_back(joint.stiffness_nm_per_rad);
+    if (!stiffness.empty())
+      rows.add("robot", "joint stiffness Kq", list(stiffness, 1.0, "N·m/rad"));
+    if (r.map)
+      rows.add(
+          "robot", "map grid",
+          fmt::format("{} × {} × {} points", r.map->counts[0], r.map->counts[1], r.map->counts[2]));
+  }
+  if (job.stability) {
+    const io::StabilitySettings& s = *job.stability;
+    rows.add("stability", "method", method_name(s.method));
+    rows.add("stability", "speeds",
+             fmt::format("{} – {} rpm, {} speeds", num(s.speed_from_rad_s * kRpm),
+                         num(s.speed_to_rad_s * kRpm), s.speed_count));
+    rows.add("stability", "depth max", with_unit(s.depth_max_m * 1e3, "mm"));
+    if (s.method != io::StabilitySettings::Method::zoa)
+      rows.add("stability", "discretization", std::to_string(s.discretization) + " per tooth");
+    if (s.process_damping != io::StabilitySettings::Damping::none)
+      rows.add("stability", "process damping",
+               fmt::format("{}, Ksp {} N/mm³, wear land {} µm",
+                           s.process_damping == io::StabilitySettings::Damping::energy_balance
+                               ? "energy balance"
+                               : "linear equivalent",
+                           num(s.indentation_n_per_m3 * 1e-9), num(s.wear_land_m * 1e6)));
+  }
+  if (job.simulation) {
+    rows.add("simulation", "model", job.simulation->model_name);
+    rows.add("simulation", "duration", with_unit(job.simulation->duration_s, "s"));
+    rows.add("simulation", "steps per tooth", std::to_string(job.simulation->steps_per_tooth));
+  }
+  if (job.workpiece && job.workpiece->pose)
+    rows.add("workpiece", "pose [xp, yp, θp]",
+             fmt::format("[{} mm, {} mm, {}°]", num(job.workpiece->pose->x_m * 1e3),
+                         num(job.workpiece->pose->y_m * 1e3),
+                         num(job.workpiece->pose->theta_rad * kDeg)));
+  if (!job.path.empty())
+    rows.add("path", "points", std::to_string(job.path.size()));
+  if (job.atlas) {
+    const atlas::AtlasSpec& a = *job.atlas;
+    rows.add("atlas", "grid",
+             fmt::format("{} × {} × {} points, {} redundancy angles", a.counts[0], a.counts[1],
+                         a.counts[2], a.redundancy_rad.size()));
+  }
+  if (!job.experiments.empty()) {
+    int chatter = 0;
+    for (const io::Experiment& e : job.experiments)
+      chatter += e.chatter ? 1 : 0;
+    rows.add("experiments", "tests",
+             fmt::format("{} ({} with chatter)", job.experiments.size(), chatter));
+  }
+  nlohmann::json document = {{"job", job.source.string()}, {"inputs", rows.take()}};
+  if (!job.name.empty())
+    document["name"] = job.name;
+  return document.dump(2) + "\n";
+}
+
+}  // namespace robomill::report
