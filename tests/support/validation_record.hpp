@@ -18,7 +18,6 @@
 #include <cmath>
 #include <cstdlib>
 #include <nlohmann/json.hpp>
-#include <source_location>
 #include <string>
 #include <string_view>
 
@@ -72,13 +71,12 @@ struct ValidationRecord {
 /// Appends `record` to $ROBOMILL_VALIDATION_LOG with the running test's name
 /// and file: one write() of one line on an O_APPEND descriptor, so records of
 /// tests running in parallel processes never interleave.
-inline void record_validation(const ValidationRecord& record,
-                              std::source_location where = std::source_location::current()) {
+inline void record_validation(const ValidationRecord& record) {
   const char* log = std::getenv("ROBOMILL_VALIDATION_LOG");
   if (log == nullptr || *log == '\0')
     return;
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  std::string file = where.file_name();
+  std::string file = info ? info->file() : "";
   if (const auto pos = file.rfind("/tests/"); pos != std::string::npos)
     file = file.substr(pos + 1);
   const nlohmann::json line = {
@@ -109,40 +107,35 @@ inline void record_validation(const ValidationRecord& record,
 
 /// |ours - paper| <= tolerance (in the unit): EXPECT_NEAR's check.
 inline void record_near(std::string paper, std::string item, std::string quantity, std::string unit,
-                        double paper_value, double ours, double tolerance, std::string assumptions,
-                        std::source_location where = std::source_location::current()) {
+                        double paper_value, double ours, double tolerance,
+                        std::string assumptions) {
   const double error = ours - paper_value;
-  record_validation(
-      {std::move(paper), std::move(item), std::move(quantity), std::move(unit), sig4(paper_value),
-       sig4(ours), signed_sig4(quantize(error, 1e-3 * tolerance)), labelled("±", tolerance),
-       std::abs(error) <= tolerance, std::move(assumptions)},
-      where);
+  record_validation({std::move(paper), std::move(item), std::move(quantity), std::move(unit),
+                     sig4(paper_value), sig4(ours), signed_sig4(quantize(error, 1e-3 * tolerance)),
+                     labelled("±", tolerance), std::abs(error) <= tolerance,
+                     std::move(assumptions)});
 }
 
 /// |ours - paper| <= relative × |paper|: the error printed in percent.
 inline void record_relative(std::string paper, std::string item, std::string quantity,
                             std::string unit, double paper_value, double ours, double relative,
-                            std::string assumptions,
-                            std::source_location where = std::source_location::current()) {
+                            std::string assumptions) {
   const double error = (ours - paper_value) / std::abs(paper_value);
   record_validation(
       {std::move(paper), std::move(item), std::move(quantity), std::move(unit), sig4(paper_value),
        sig4(ours), signed_sig4(quantize(100.0 * error, 0.1 * relative), " %"),
        labelled("±", 100.0 * relative, " %"),
-       std::abs(ours - paper_value) <= relative * std::abs(paper_value), std::move(assumptions)},
-      where);
+       std::abs(ours - paper_value) <= relative * std::abs(paper_value), std::move(assumptions)});
 }
 
 /// A trend or bound check: the paper's statement, our value, the test's bound
 /// as text, and whether our value meets it (the test asserts the same).
 inline void record_check(std::string paper, std::string item, std::string quantity,
                          std::string unit, std::string paper_value, std::string ours,
-                         std::string tolerance, bool passed, std::string assumptions,
-                         std::source_location where = std::source_location::current()) {
+                         std::string tolerance, bool passed, std::string assumptions) {
   record_validation({std::move(paper), std::move(item), std::move(quantity), std::move(unit),
                      std::move(paper_value), std::move(ours), "—", std::move(tolerance), passed,
-                     std::move(assumptions)},
-                    where);
+                     std::move(assumptions)});
 }
 
 }  // namespace robomill::test
