@@ -112,7 +112,8 @@ is read as YAML (`--set process.ae="2 mm"`, `--set dynamics.modes[0].fn=2100`).
 Errors in overridden fields end with "(from --set)".
 
 Section names: `a.b` is the map under key `b` of section `a`; `a.b[]` is each
-item of the list `a.b`. *required*: `yes`, a condition, or empty (optional).
+item of the list `a.b`. *required*: `yes`, a condition, "by" the commands
+that need it, or empty (optional).
 Beyond the ranges given here, the parser checks the fields against each other
 (`process.ae` ≤ `tool.diameter`, `stability.discretization` against the
 highest mode, …) and names the field and the value that would work.
