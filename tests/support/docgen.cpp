@@ -6,6 +6,9 @@
 //   robomill_docgen validation-report --records LOG [--output FILE] [--check FILE]
 //       docs/validation-report.md from the records the validation tests
 //       appended to LOG (tests/support/validation_record.hpp).
+//   robomill_docgen theory --check docs/theory.md --source SOURCE_DIR
+//       every function docs/theory.md's equation map names exists in the
+//       file named next to it.
 //
 // --check compares with the committed page and fails with "… is stale; run
 // `make docs`". For the validation report a partial run (`ctest -R …`, so
@@ -16,6 +19,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <fstream>
 #include <iostream>
 #include <map>
@@ -179,14 +183,92 @@ std::set<std::string> listed_tests(const std::string& page) {
   return names;
 }
 
+/// The backquoted words of a Markdown table cell.
+std::vector<std::string> backquoted(const std::string& cell) {
+  std::vector<std::string> words;
+  std::size_t at = 0;
+  while ((at = cell.find('`', at)) != std::string::npos) {
+    const std::size_t end = cell.find('`', at + 1);
+    if (end == std::string::npos)
+      break;
+    words.push_back(cell.substr(at + 1, end - at - 1));
+    at = end + 1;
+  }
+  return words;
+}
+
+/// docs/theory.md's equation map: every function it names must occur in one
+/// of the files named on the same row (the name after the last "::", as a
+/// whole word).
+int check_theory(const std::string& page_path, const std::string& source_dir) {
+  bool ok = false;
+  const std::string page = read_file(page_path, ok);
+  const auto begin = page.find("## Equation map");
+  if (!ok || begin == std::string::npos) {
+    std::cerr << page_path << ": no \"## Equation map\" section\n";
+    return 1;
+  }
+  const auto end = page.find("\n## ", begin + 1);
+  std::istringstream lines(page.substr(begin, end - begin));
+  std::string line;
+  int rows = 0, names = 0, missing = 0;
+  while (std::getline(lines, line)) {
+    if (line.rfind("| ", 0) != 0 || line.rfind("| equation", 0) == 0)
+      continue;
+    std::vector<std::string> cells;
+    std::size_t at = 1;
+    for (std::size_t bar; (bar = line.find(" |", at)) != std::string::npos; at = bar + 2)
+      cells.push_back(line.substr(at, bar - at));
+    if (cells.size() != 4)
+      continue;
+    ++rows;
+    std::string sources;
+    for (const std::string& file : backquoted(cells[3])) {
+      bool read = false;
+      sources += read_file(source_dir + "/" + file, read);
+      if (!read) {
+        std::cerr << page_path << ": '" << file << "' does not exist\n";
+        ++missing;
+      }
+    }
+    for (const std::string& name : backquoted(cells[2])) {
+      ++names;
+      const std::string word =
+          name.substr(name.rfind(':') == std::string::npos ? 0 : name.rfind(':') + 1);
+      bool found = false;
+      for (std::size_t pos = 0; !found && (pos = sources.find(word, pos)) != std::string::npos;
+           ++pos) {
+        auto is_word = [](char c) {
+          return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+        };
+        const bool left = pos == 0 || !is_word(sources[pos - 1]);
+        const bool right =
+            pos + word.size() >= sources.size() || !is_word(sources[pos + word.size()]);
+        found = left && right;
+      }
+      if (!found) {
+        std::cerr << page_path << ": " << name << " is not in " << cells[3]
+                  << "; update the equation map\n";
+        ++missing;
+      }
+    }
+  }
+  if (missing > 0 || rows == 0)
+    return 1;
+  std::cout << page_path << ": " << names << " functions on " << rows
+            << " rows of the equation map, all found\n";
+  return 0;
+}
+
 struct Arguments {
-  std::string command, records, output, check;
+  std::string command, records, output, check, source;
 };
 
 int usage() {
   std::cerr << "usage: robomill_docgen job-reference [--output FILE] [--check FILE]\n"
                "       robomill_docgen validation-report --records LOG [--output FILE] "
-               "[--check FILE]\n";
+               "[--check FILE]\n"
+               "       robomill_docgen theory --check docs/theory.md --source SOURCE_DIR\n";
   return 2;
 }
 
@@ -288,6 +370,8 @@ int main(int argc, char** argv) {
       args.check = value;
     else if (flag == "--records")
       args.records = value;
+    else if (flag == "--source")
+      args.source = value;
     else
       return usage();
   }
@@ -296,6 +380,8 @@ int main(int argc, char** argv) {
       return job_reference(args);
     if (args.command == "validation-report" && !args.records.empty())
       return validation(args);
+    if (args.command == "theory" && !args.check.empty() && !args.source.empty())
+      return check_theory(args.check, args.source);
   } catch (const std::exception& e) {
     std::cerr << "robomill_docgen: " << e.what() << "\n";
     return 1;
