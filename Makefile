@@ -7,7 +7,7 @@ ASAN_BUILD  ?= build-asan
 FUZZ_SECONDS ?= 60
 FUZZ_FRF_SECONDS ?= 30
 
-.PHONY: all setup build demo test test-release sanitize-build test-sanitize fuzz bench format clean
+.PHONY: all setup build demo docs test test-release sanitize-build test-sanitize fuzz bench format clean
 
 all: build
 
@@ -24,6 +24,17 @@ demo: build
 	./$(BUILD)/robomill fit-modes examples/003_kr270_measured_frf.yaml --out out/demo/fit-modes
 	./$(BUILD)/robomill stability examples/003_kr270_measured_frf.yaml --out out/demo/measured-stability
 	@echo "demo: results in out/demo/forces (forces.csv, summary.json), out/demo/stability (sld.csv, sld_envelope.csv, summary.json), out/demo/fit-modes (modes.csv, frf_fit.csv, modes.yaml) and out/demo/measured-stability (sld.csv from the fitted modes)"
+
+# The generated pages of docs/: the job-file reference from the job schema,
+# and the validation report from what the paper-validation tests record
+# (ctest label `validation`; the report's own check is left out here, since
+# it is what is being regenerated). `make test` fails when either is stale.
+docs: build
+	./$(BUILD)/tests/robomill_docgen job-reference --output docs/job-reference.md
+	cd $(BUILD) && ctest -L validation -FC validation_log --output-on-failure -j$(JOBS)
+	./$(BUILD)/tests/robomill_docgen validation-report --records $(BUILD)/validation/records.jsonl \
+	  --output docs/validation-report.md
+	@echo "docs: docs/job-reference.md and docs/validation-report.md regenerated"
 
 # One sanitizer build serves both the tests and the fuzzers: clang with
 # AddressSanitizer + UndefinedBehaviorSanitizer, the library also carrying

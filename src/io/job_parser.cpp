@@ -28,6 +28,7 @@
 #include "quantity_fields.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/io/job.hpp"
+#include "robomill/io/job_schema.hpp"
 #include "robomill/io/units.hpp"
 #include "text.hpp"
 #include "yaml_reader.hpp"
@@ -274,11 +275,17 @@ void SectionReader::unknown_key(const Entry& entry, std::string_view message) co
   throw InputError(field, entry.line, text + provenance_->note(field));
 }
 
-void SectionReader::allow(std::initializer_list<std::string_view> keys,
-                          std::initializer_list<std::string_view> unsupported,
-                          std::string_view unsupported_message, std::string_view context) {
+void SectionReader::allow_schema(std::string_view schema_section,
+                                 std::initializer_list<std::string_view> unsupported,
+                                 std::string_view unsupported_message, std::string_view context) {
+  const std::vector<std::string_view>& keys = schema::keys(schema_section);
+  schema_section_ = schema_section;
   allowed_.assign(keys.begin(), keys.end());
   context_ = std::string(context);
+  for (const auto& entry : entries_) {
+    if (entry.read)  // read before the schema was known (cutting.law)
+      note_read(entry.key);
+  }
   for (const auto& entry : entries_) {
     if (std::find(allowed_.begin(), allowed_.end(), entry.key) != allowed_.end())
       continue;
@@ -296,7 +303,20 @@ void SectionReader::finish() {
   }
 }
 
+void SectionReader::note_read(std::string_view key) const {
+  schema::CoverageRecorder* recorder = schema::detail::active_recorder();
+  if (recorder == nullptr || schema_section_.empty())
+    return;
+  if (std::find(allowed_.begin(), allowed_.end(), key) == allowed_.end()) {
+    throw std::logic_error("the job parser reads '" + std::string(key) + "' of " + display_path() +
+                           ", which job schema section '" + std::string(schema_section_) +
+                           "' does not list");
+  }
+  recorder->note(schema_section_, key);
+}
+
 const SectionReader::Entry* SectionReader::take_value(std::string_view key) {
+  note_read(key);
   auto it = std::find_if(entries_.begin(), entries_.end(),
                          [&](const Entry& entry) { return entry.key == key; });
   if (it == entries_.end())
@@ -485,6 +505,7 @@ std::optional<std::string> SectionReader::optional_text(std::string_view key) {
 }
 
 std::optional<SectionReader> SectionReader::section(std::string_view key) {
+  note_read(key);
   auto it = std::find_if(entries_.begin(), entries_.end(),
                          [&](const Entry& entry) { return entry.key == key; });
   if (it == entries_.end())
@@ -807,7 +828,7 @@ std::optional<tool::ToolSpec> read_tool(SectionReader& root) {
   if (!section)
     return std::nullopt;
   SectionReader& r = *section;
-  r.allow({"type", "diameter", "teeth", "helix", "overhang", "E", "runout"});
+  r.allow_schema("tool");
 
   tool::ToolSpec spec;
   spec.type = r.choice("type", {"flat", "ball"}, "flat") == "ball" ? tool::ToolType::ball
@@ -827,7 +848,7 @@ std::optional<tool::ToolSpec> read_tool(SectionReader& root) {
   spec.youngs_modulus_pa =
       r.quantity_or("E", field(dimensions::pressure, kGPa, "GPa", kPositive), 600e9);
   if (auto runout = r.section("runout")) {
-    runout->allow({"offset", "angle"});
+    runout->allow_schema("tool.runout");
     spec.runout.offset_m = runout->quantity_or("offset", length_mm(kNonNegative), 0.0);
     if (spec.runout.offset_m >= radius) {
       runout->fail("offset", "must be less than the tool radius (" +
@@ -855,7 +876,7 @@ std::optional<cutting::CuttingLaw> read_cutting(SectionReader& root) {
   if (!section)
     return std::nullopt;
   SectionReader& r = *section;
-  // The law decides which keys are valid, so it is read before allow().
+  // The law decides which keys are valid, so it is read before allow_schema().
   const std::string law =
       r.choice("law", {"linear", "exponential", "fractional", "size_dependent"}, "linear");
   const std::string context = "for law '" + law + "'";
@@ -868,7 +889,7 @@ std::optional<cutting::CuttingLaw> read_cutting(SectionReader& root) {
 
   cutting::CuttingLaw result;
   if (law == "linear") {
-    r.allow({"law", "Ktc", "Krc", "Kac", "Kte", "Kre", "Kae"}, {}, {}, context);
+    r.allow_schema("cutting[law=linear]", {}, {}, context);
     cutting::LinearLaw l;
     l.Ktc_pa = r.quantity("Ktc", bounded(pressure, kPositive));
     l.Krc_pa = r.quantity_or("Krc", bounded(pressure, kNonNegative), 0.0);
@@ -878,7 +899,7 @@ std::optional<cutting::CuttingLaw> read_cutting(SectionReader& root) {
     l.Kae_n_per_m = r.quantity_or("Kae", per_length, 0.0);
     result = l;
   } else if (law == "exponential") {
-    r.allow({"law", "kF", "exponent", "chip_unit", "kr", "ka"}, {}, {}, context);
+    r.allow_schema("cutting[law=exponential]", {}, {}, context);
     cutting::ExponentialLaw l;
     l.kF_n_per_m = r.quantity("kF", bounded(per_length, kPositive));
     l.exponent = r.quantity("exponent", dimensionless(kPositive, Bound{1.5, true}));
@@ -887,7 +908,7 @@ std::optional<cutting::CuttingLaw> read_cutting(SectionReader& root) {
     l.axial_ratio = r.quantity_or("ka", dimensionless(), 0.0);
     result = l;
   } else if (law == "fractional") {
-    r.allow({"law", "k0", "hs", "r", "kr", "ka"}, {}, {}, context);
+    r.allow_schema("cutting[law=fractional]", {}, {}, context);
     cutting::FractionalLaw l;
     l.k0_n_per_m = r.quantity("k0", field(dimensions::force_per_length, 1.0, "N/m", kPositive));
     l.hs_m = r.quantity("hs", length_mm());
@@ -896,7 +917,7 @@ std::optional<cutting::CuttingLaw> read_cutting(SectionReader& root) {
     l.axial_ratio = r.quantity_or("ka", dimensionless(), 0.0);
     result = l;
   } else {
-    r.allow({"law", "kc1", "b1", "kc2", "b2", "chip_unit"}, {}, {}, context);
+    r.allow_schema("cutting[law=size_dependent]", {}, {}, context);
     cutting::SizeDependentLaw l;
     l.kc1_pa = r.quantity("kc1", bounded(pressure, kPositive));
     l.b1 = r.quantity("b1", dimensionless());
@@ -920,7 +941,7 @@ std::optional<cutting::MillingProcess> read_process(SectionReader& root,
   if (!section)
     return std::nullopt;
   SectionReader& r = *section;
-  r.allow({"spindle", "feed_per_tooth", "feed_rate", "ap", "ae", "direction"});
+  r.allow_schema("process");
 
   cutting::MillingProcess process;
   process.spindle_rad_s =
@@ -983,7 +1004,7 @@ ForcesSettings read_forces(SectionReader& root, const std::optional<tool::ToolSp
   if (!section)
     return forces;
   SectionReader& r = *section;
-  r.allow({"revolutions", "steps_per_tooth", "axial_elements"});
+  r.allow_schema("forces");
   forces.revolutions = r.integer_or("revolutions", 1, 1000, forces.revolutions);
   forces.steps_per_tooth = r.integer_or("steps_per_tooth", 4, 100000, forces.steps_per_tooth);
   // 0 (automatic) is the default and cannot be written: an explicit value is a count.
@@ -1011,7 +1032,7 @@ dynamics::AxialShape read_axial_shape(SectionReader& mode) {
     mode.fail("shape", "must list at least one point {at, value}");
   std::vector<double> distance_m, value;
   for (SectionReader& point : *points) {
-    point.allow({"at", "value"});
+    point.allow_schema("dynamics.modes[].shape[]");
     const double at = point.quantity("at", length_mm(kNonNegative));
     if (!distance_m.empty() && !(at > distance_m.back()))
       point.fail("at", "points must be listed from the tip outward (increasing distance)");
@@ -1023,7 +1044,7 @@ dynamics::AxialShape read_axial_shape(SectionReader& mode) {
 }
 
 ModeSpec read_mode(SectionReader& m) {
-  m.allow({"direction", "fn", "zeta", "k", "m", "shape"});
+  m.allow_schema("dynamics.modes[]");
   ModeSpec mode;
   if (m.is_list("direction")) {
     const auto components = m.texts("direction");
@@ -1122,7 +1143,7 @@ FrfFileSpec::Format guessed_format(const std::filesystem::path& file) {
 
 FrfFileSpec read_frf_file(SectionReader& f, const std::filesystem::path& source,
                           std::optional<int> direction = std::nullopt) {
-  f.allow({"file", "format", "response", "reference", "units"});
+  f.allow_schema("dynamics.frf[]");
   FrfFileSpec spec;
   spec.path = f.path();
   spec.line = f.line();
@@ -1177,12 +1198,12 @@ FrfFileSpec read_frf_file(SectionReader& f, const std::filesystem::path& source,
 }
 
 FitSettings read_fit(SectionReader& fit) {
-  fit.allow({"bands", "max_order"});
+  fit.allow_schema("dynamics.fit");
   FitSettings settings;
   settings.max_order = fit.integer_or("max_order", 2, 200, 0);
   if (auto bands = fit.sections("bands")) {
     for (SectionReader& b : *bands) {
-      b.allow({"from", "to", "max_order"});
+      b.allow_schema("dynamics.fit.bands[]");
       FitSettings::Band band;
       band.low_hz = b.quantity("from", field(dimensions::frequency, 1.0, "Hz", kPositive));
       band.high_hz = b.quantity("to", field(dimensions::frequency, 1.0, "Hz", kPositive));
@@ -1215,7 +1236,7 @@ void read_posture_library(SectionReader& r, Job& job) {
     r.fail("postures", "must list at least one measured posture {posture: [...], modes: [...]}");
   for (std::size_t i = 0; i < entries->size(); ++i) {
     SectionReader& e = (*entries)[i];
-    e.allow({"posture", "modes"});
+    e.allow_schema("dynamics.postures[]");
     const auto q = e.quantities("posture", angle);
     if (!q)
       e.fail("posture", "required: the joint angles of this measurement (deg by default)");
@@ -1258,7 +1279,7 @@ void read_posture_library(SectionReader& r, Job& job) {
     library.query_source = "dynamics.at";
   }
   if (auto idw = r.section("idw")) {
-    idw->allow({"power", "joint_weights"});
+    idw->allow_schema("dynamics.idw");
     library.idw.power = idw->quantity_or("power", dimensionless(kPositive), 1.0);
     if (auto w = idw->quantities("joint_weights", dimensionless(kNonNegative),
                                  library.postures_rad.front().size())) {
@@ -1333,7 +1354,7 @@ void read_dynamics(SectionReader& root, Job& job) {
   if (!section)
     return;
   SectionReader& r = *section;
-  r.allow({"modes", "frf", "fit", "use", "from_robot", "postures", "at", "idw"});
+  r.allow_schema("dynamics");
   if (r.has("postures")) {
     read_posture_library(r, job);
     return;
@@ -1352,7 +1373,7 @@ void read_dynamics(SectionReader& root, Job& job) {
     // DESIGN.md's form, one file per measured direction: {x: file, y: file},
     // each a path or a map with the list form's keys.
     auto by_direction = r.section("frf");
-    by_direction->allow({"x", "y", "z"});
+    by_direction->allow_schema("dynamics.frf");
     for (const char* key : {"x", "y", "z"}) {
       const int axis = key[0] - 'x';
       if (by_direction->is_map(key)) {
@@ -1405,8 +1426,8 @@ void read_dynamics(SectionReader& root, Job& job) {
 
 /// `{xyz: [x, y, z], rpy: [roll, pitch, yaw]}` (mm and deg by default): a
 /// frame as a translation and fixed-axis X-Y-Z rotations (URDF's convention).
-Eigen::Isometry3d read_frame(SectionReader& f) {
-  f.allow({"xyz", "rpy"});
+Eigen::Isometry3d read_frame(SectionReader& f, std::string_view schema_section) {
+  f.allow_schema(schema_section);
   Eigen::Isometry3d frame = Eigen::Isometry3d::Identity();
   if (auto xyz = f.quantities("xyz", length_mm({}), 3))
     frame.translation() = Eigen::Vector3d((*xyz)[0], (*xyz)[1], (*xyz)[2]);
@@ -1432,8 +1453,7 @@ Eigen::Vector3d read_direction(SectionReader& r, std::string_view key,
 }
 
 RobotSettings read_robot_section(SectionReader& r, const std::filesystem::path& source) {
-  r.allow({"name", "dh", "convention", "urdf", "joint_stiffness", "joints", "links",
-           "damping_ratio", "base", "tool", "posture", "frf", "map"});
+  r.allow_schema("robot");
   RobotSettings settings;
   robot::RobotDescription& d = settings.description;
   d.name = r.optional_text("name").value_or("robot");
@@ -1451,7 +1471,7 @@ RobotSettings read_robot_section(SectionReader& r, const std::filesystem::path& 
     if (rows->empty())
       r.fail("dh", "required: one row {a, alpha, d, theta} per joint");
     for (SectionReader& row : *rows) {
-      row.allow({"a", "alpha", "d", "theta"});
+      row.allow_schema("robot.dh[]");
       robot::DhRow entry;
       entry.a_m = row.quantity_or("a", length_mm({}), 0.0);
       entry.alpha_rad = row.quantity_or("alpha", angle, 0.0);
@@ -1465,7 +1485,7 @@ RobotSettings read_robot_section(SectionReader& r, const std::filesystem::path& 
     r.fail("convention", "applies to a DH table (dh:), not to a URDF file");
   }
   if (auto urdf = r.section("urdf")) {
-    urdf->allow({"file", "base", "tip", "limits_from_file"});
+    urdf->allow_schema("robot.urdf");
     const auto file = urdf->optional_text("file");
     if (!file || file->empty())
       urdf->fail("file", "required field missing (path of the URDF file, relative to the job)");
@@ -1517,7 +1537,7 @@ RobotSettings read_robot_section(SectionReader& r, const std::filesystem::path& 
     }
     for (std::size_t i = 0; i < joints->size(); ++i) {
       SectionReader& j = (*joints)[i];
-      j.allow({"lower", "upper", "damping"});
+      j.allow_schema("robot.joints[]");
       robot::JointProperties& joint = d.joints[i];
       joint.lower_rad = j.quantity_or("lower", angle, joint.lower_rad);
       joint.upper_rad = j.quantity_or("upper", angle, joint.upper_rad);
@@ -1536,7 +1556,7 @@ RobotSettings read_robot_section(SectionReader& r, const std::filesystem::path& 
       r.fail("links", fmt::format("lists {} links; one per joint ({}) needed", links->size(),
                                   d.joints.size()));
     for (SectionReader& l : *links) {
-      l.allow({"mass", "cog", "inertia"});
+      l.allow_schema("robot.links[]");
       robot::LinkInertia link;
       link.mass_kg = l.quantity("mass", field(dimensions::mass, 1.0, "kg", kNonNegative));
       if (auto cog = l.quantities("cog", length_mm({}), 3))
@@ -1562,14 +1582,14 @@ RobotSettings read_robot_section(SectionReader& r, const std::filesystem::path& 
   d.modal_damping_ratio =
       r.quantity_or("damping_ratio", dimensionless(kNonNegative, Bound{1.0, false}), 0.0);
   if (auto base = r.section("base"))
-    d.base = read_frame(*base);
+    d.base = read_frame(*base, "robot.base");
   if (auto tool = r.section("tool"))
-    d.flange_to_tool = read_frame(*tool);
+    d.flange_to_tool = read_frame(*tool, "robot.tool");
   if (auto posture =
           r.quantities("posture", field(dimensions::angle, kDeg, "deg"), d.joints.size()))
     settings.posture_rad = *posture;
   if (auto frf = r.section("frf")) {
-    frf->allow({"from", "to", "points"});
+    frf->allow_schema("robot.frf");
     settings.frf_from_hz =
         frf->quantity_or("from", field(dimensions::frequency, 1.0, "Hz", kPositive), 0.0);
     settings.frf_to_hz =
@@ -1581,7 +1601,7 @@ RobotSettings read_robot_section(SectionReader& r, const std::filesystem::path& 
     frf->finish();
   }
   if (auto map = r.section("map")) {
-    map->allow({"from", "to", "counts", "tool_axis", "feed", "redundancy"});
+    map->allow_schema("robot.map");
     RobotSettings::Map grid;
     const auto from = map->quantities("from", length_mm({}), 3);
     const auto to = map->quantities("to", length_mm({}), 3);
@@ -1620,8 +1640,7 @@ std::optional<StabilitySettings> read_stability(SectionReader& root,
   if (!section)
     return std::nullopt;
   SectionReader& r = *section;
-  r.allow({"method", "mode", "modes", "speeds", "depth_max", "depths", "depth_tolerance",
-           "discretization", "continuation", "process_damping", "deformation"});
+  r.allow_schema("stability");
   using Settings = StabilitySettings;
   Settings settings;
 
@@ -1643,7 +1662,7 @@ std::optional<StabilitySettings> read_stability(SectionReader& root,
   if (!speeds) {
     r.fail("speeds", "required field missing (the spindle-speed range {from, to, count}, in rpm)");
   }
-  speeds->allow({"from", "to", "count"});
+  speeds->allow_schema("stability.speeds");
   settings.speed_from_rad_s = speeds->quantity("from", rpm);
   const std::optional<double> to = speeds->optional_quantity("to", rpm);
   settings.speed_count = speeds->integer("count", 1, 100000);
@@ -1694,7 +1713,7 @@ std::optional<StabilitySettings> read_stability(SectionReader& root,
   }
 
   if (auto damping = r.section("process_damping")) {
-    damping->allow({"model", "Ksp", "wear_land", "mu"});
+    damping->allow_schema("stability.process_damping");
     settings.process_damping =
         damping->choice("model", {"linear_equivalent", "energy_balance"}) == "energy_balance"
             ? Settings::Damping::energy_balance
@@ -1762,7 +1781,7 @@ std::vector<Experiment> read_experiments(SectionReader& root) {
   if (!items)
     return experiments;
   for (SectionReader& e : *items) {
-    e.allow({"spindle", "depth", "chatter"});
+    e.allow_schema("experiments[]");
     Experiment experiment;
     experiment.spindle_rad_s =
         e.quantity("spindle", field(dimensions::angular_speed, kRpm, "rpm", kPositive));
@@ -1780,7 +1799,7 @@ OutputSettings read_output(SectionReader& root) {
   if (!section)
     return output;
   SectionReader& r = *section;
-  r.allow({"dir", "formats"});
+  r.allow_schema("output");
   output.dir = r.optional_text("dir").value_or("");
   if (auto formats = r.texts("formats")) {
     output.csv = output.json = output.html = false;
@@ -1850,10 +1869,7 @@ Job read_job(const YAML::Node& root_node, const std::filesystem::path& source,
              const Provenance& provenance) {
   const int root_line = provenance.line(root_node, "") > 0 ? provenance.line(root_node, "") : 1;
   SectionReader root(root_node, "", root_line, provenance);
-  root.allow({"name", "tool", "cutting", "process", "forces", "dynamics", "stability",
-              "experiments", "robot", "output", "workpiece", "path", "optimize", "advise",
-              "deflection", "simulation", "atlas"},
-             {"surface"}, "section not supported by this version of robomill");
+  root.allow_schema("job", {"surface"}, "section not supported by this version of robomill");
   Job job;
   job.source = source;
   job.name = root.optional_text("name").value_or("");

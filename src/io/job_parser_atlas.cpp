@@ -32,8 +32,7 @@ void read_atlas(SectionReader& root, Job& job) {
   if (!section)
     return;
   SectionReader& r = *section;
-  r.allow({"grid", "tool_axis", "feed", "redundancy", "analyses", "speeds", "depth_max", "store",
-           "batch"});
+  r.allow_schema("atlas");
   atlas::AtlasSpec spec;
   const QuantityField mm = field(dimensions::length, 1e-3, "mm");
   const QuantityField deg = field(dimensions::angle, kDeg, "deg");
@@ -41,7 +40,7 @@ void read_atlas(SectionReader& root, Job& job) {
   auto grid = r.section("grid");
   if (!grid)
     r.fail("grid", "required: {from: [x, y, z], to: [x, y, z], counts: [nx, ny, nz]} (mm)");
-  grid->allow({"from", "to", "counts"});
+  grid->allow_schema("atlas.grid");
   const auto from = grid->quantities("from", mm, 3);
   if (!from)
     grid->fail("from", "required: the grid's first corner [x, y, z] in the cell frame");
@@ -65,7 +64,7 @@ void read_atlas(SectionReader& root, Job& job) {
 
   if (r.is_map("redundancy")) {
     auto red = r.section("redundancy");
-    red->allow({"from", "to", "count"});
+    red->allow_schema("atlas.redundancy");
     const double a = red->quantity("from", deg);
     const int count = red->integer("count", 1, 3600);
     const double b = count == 1 ? red->quantity_or("to", deg, a) : red->quantity("to", deg);
@@ -106,7 +105,7 @@ void read_atlas(SectionReader& root, Job& job) {
     auto speeds = r.section("speeds");
     if (!speeds)
       r.fail("speeds", "required with the stability analysis: {from, to, count} (rpm)");
-    speeds->allow({"from", "to", "count"});
+    speeds->allow_schema("atlas.speeds");
     const QuantityField rpm = field(dimensions::angular_speed, kRpm, "rpm", kPositive);
     spec.speed_from_rad_s = speeds->quantity("from", rpm);
     spec.speed_count = speeds->integer("count", 1, 100000);

@@ -28,8 +28,7 @@ void read_deflection(SectionReader& root, Job& job) {
   const QuantityField length = length_mm();
   if (section) {
     SectionReader& r = *section;
-    r.allow(
-        {"elements", "equivalent_diameter", "chip_correction", "robot", "depths", "table_depths"});
+    r.allow_schema("deflection");
     settings.elements = r.integer_or("elements", 1, 200, settings.elements);
     if (auto d = r.optional_quantity("equivalent_diameter", length)) {
       if (job.tool && *d > job.tool->diameter_m * (1.0 + 1e-12)) {
@@ -47,7 +46,7 @@ void read_deflection(SectionReader& root, Job& job) {
              "the tool's bending alone)");
     }
     if (auto depths = r.section("depths")) {
-      depths->allow({"from", "to", "count"});
+      depths->allow_schema("deflection.depths");
       settings.depth_from_m = depths->quantity("from", length);
       settings.depth_to_m = depths->quantity("to", length);
       settings.depth_count = depths->integer_or("count", 1, 1000, settings.depth_count);

@@ -23,8 +23,8 @@ Eigen::Vector3d vector3(SectionReader& r, std::string_view key, const Eigen::Vec
 }
 
 /// `{x, y, theta}`: a workpiece pose (mm, mm, deg).
-planning::WorkpiecePose read_pose(SectionReader& r) {
-  r.allow({"x", "y", "theta"});
+planning::WorkpiecePose read_pose(SectionReader& r, std::string_view schema_section) {
+  r.allow_schema(schema_section);
   planning::WorkpiecePose pose;
   pose.x_m = r.quantity_or("x", length_mm({}), 0.0);
   pose.y_m = r.quantity_or("y", length_mm({}), 0.0);
@@ -34,7 +34,7 @@ planning::WorkpiecePose read_pose(SectionReader& r) {
 }
 
 WorkpieceSettings read_workpiece(SectionReader& r) {
-  r.allow({"table", "height", "tilt_axis", "pose"});
+  r.allow_schema("workpiece");
   WorkpieceSettings settings;
   const auto table = r.quantities("table", length_mm({}), 3);
   if (!table)
@@ -44,13 +44,13 @@ WorkpieceSettings read_workpiece(SectionReader& r) {
   settings.cell.tilt_axis =
       r.choice("tilt_axis", {"x", "y"}, "y") == "x" ? planning::TiltAxis::x : planning::TiltAxis::y;
   if (auto pose = r.section("pose"))
-    settings.pose = read_pose(*pose);
+    settings.pose = read_pose(*pose, "workpiece.pose");
   r.finish();
   return settings;
 }
 
 std::vector<planning::PathPoint> read_path(SectionReader& r) {
-  r.allow({"shape", "start", "length", "width", "points", "direction"});
+  r.allow_schema("path");
   r.choice("shape", {"rectangle"}, "rectangle");
   const Eigen::Vector3d start = vector3(r, "start", Eigen::Vector3d::Zero());
   const double length = r.quantity("length", length_mm(kPositive));
@@ -75,13 +75,12 @@ void read_range(SectionReader& r, std::string_view key, const QuantityField& fie
 }
 
 OptimizeSettings read_optimize(SectionReader& r) {
-  r.allow({"bounds", "variables", "algorithm", "local", "budget", "local_budget", "tolerance",
-           "seed", "measure", "harmonics", "samples", "poses", "landscape", "check_time_domain"});
+  r.allow_schema("optimize");
   OptimizeSettings s;
   auto bounds = r.section("bounds");
   if (!bounds)
     r.fail("bounds", "required: {x: [lower, upper], y: [...], theta: [...]} (004 Eq 9)");
-  bounds->allow({"x", "y", "theta"});
+  bounds->allow_schema("optimize.bounds");
   read_range(*bounds, "x", length_mm({}), s.bounds.lower.x_m, s.bounds.upper.x_m);
   read_range(*bounds, "y", length_mm({}), s.bounds.lower.y_m, s.bounds.upper.y_m);
   read_range(*bounds, "theta", angle_deg(), s.bounds.lower.theta_rad, s.bounds.upper.theta_rad);
@@ -133,10 +132,10 @@ OptimizeSettings read_optimize(SectionReader& r) {
   s.check_time_domain = r.boolean_or("check_time_domain", false);
   if (auto poses = r.sections("poses")) {
     for (SectionReader& pose : *poses)
-      s.poses.push_back(read_pose(pose));
+      s.poses.push_back(read_pose(pose, "optimize.poses[]"));
   }
   if (auto landscape = r.section("landscape")) {
-    landscape->allow({"x", "y", "theta"});
+    landscape->allow_schema("optimize.landscape");
     s.landscape_counts[0] = landscape->integer("x", 1, 1000);
     s.landscape_counts[1] = landscape->integer("y", 1, 1000);
     if (auto theta = landscape->quantities("theta", angle_deg()))
@@ -156,9 +155,7 @@ OptimizeSettings read_optimize(SectionReader& r) {
 /// `advise:` (issue 9 item 4): the limits and resolution of the
 /// cutting-parameter advice and, optionally, the redundancy-angle study.
 AdviseSettings read_advise(SectionReader& r, const Job& job) {
-  r.allow({"speeds", "refine", "depth_max", "depth_step", "margin", "max_offset", "measure",
-           "harmonics", "samples", "method", "discretization", "depth_tolerance", "peaks", "along",
-           "redundancy_angle", "redundancy"});
+  r.allow_schema("advise");
   AdviseSettings s;
   QuantityField rpm;
   rpm.dimension = dimensions::angular_speed;
@@ -168,7 +165,7 @@ AdviseSettings read_advise(SectionReader& r, const Job& job) {
   auto speeds = r.section("speeds");
   if (!speeds)
     r.fail("speeds", "required: the spindle range {from, to, count} (rpm) to search");
-  speeds->allow({"from", "to", "count"});
+  speeds->allow_schema("advise.speeds");
   s.limits.speed_min_rad_s = speeds->quantity("from", rpm);
   s.limits.speed_count = speeds->integer("count", 1, 100000);
   s.limits.speed_max_rad_s = speeds->quantity_or("to", rpm, s.limits.speed_min_rad_s);
@@ -243,12 +240,12 @@ AdviseSettings read_advise(SectionReader& r, const Job& job) {
   s.along_path = r.choice("along", {"posture", "path"}, "posture") == "path";
   s.redundancy_angle_rad = r.quantity_or("redundancy_angle", angle_deg(), 0.0);
   if (auto redundancy = r.section("redundancy")) {
-    redundancy->allow({"angles", "at"});
+    redundancy->allow_schema("advise.redundancy");
     AdviseSettings::Redundancy study;
     auto angles = redundancy->section("angles");
     if (!angles)
       redundancy->fail("angles", "required: {from, to, count} (deg) about the tool axis");
-    angles->allow({"from", "to", "count"});
+    angles->allow_schema("advise.redundancy.angles");
     const double from = angles->quantity("from", angle_deg());
     const double to = angles->quantity("to", angle_deg());
     const int count = angles->integer("count", 1, 3600);

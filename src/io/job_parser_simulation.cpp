@@ -47,7 +47,7 @@ Eigen::MatrixXd read_matrix(SectionReader& r, std::string_view key, const Quanti
 }
 
 void read_fixation(SectionReader& r, SimulationSettings& s, int n) {
-  r.allow({"mass", "stiffness", "damping", "damping_ratio"});
+  r.allow_schema("simulation.fixation");
   s.mass_kg = read_matrix(r, "mass", field(dimensions::mass, 1.0, "kg", kNonNegative), n);
   s.stiffness_n_per_m = read_matrix(r, "stiffness", field(dimensions::stiffness, 1.0, "N/m"), n);
   const bool ratio = r.has("damping_ratio"), matrix = r.has("damping");
@@ -90,9 +90,7 @@ void read_simulation(SectionReader& root, Job& job) {
   if (!section)
     return;
   SectionReader& r = *section;
-  r.allow({"model", "duration", "revolutions", "steps_per_tooth", "axial_elements", "fixation",
-           "workpiece", "steady_revolutions", "start_angle", "record_every", "process_damping",
-           "damping_ratio"});
+  r.allow_schema("simulation");
   SimulationSettings s;
   s.line = r.line();
   s.model_name =
@@ -162,7 +160,7 @@ void read_simulation(SectionReader& root, Job& job) {
       "damping_ratio", field(dimensions::none, 1.0, "", kPositive, Bound{1.0, false}), 0.0);
 
   if (auto workpiece = r.section("workpiece")) {
-    workpiece->allow({"border"});
+    workpiece->allow_schema("simulation.workpiece");
     s.border_line = workpiece->line_of("border");
     s.border_gap_m =
         workpiece->quantity("border", field(dimensions::length, 1e-3, "mm", kNonNegative));
@@ -181,7 +179,7 @@ void read_simulation(SectionReader& root, Job& job) {
                     steady_revolutions, s.steady_window_s, s.duration_s, s.steady_window_s));
 
   if (auto damping = r.section("process_damping")) {
-    damping->allow({"Ksp", "wear_land", "mu"});
+    damping->allow_schema("simulation.process_damping");
     s.process_damping = true;
     s.indentation_n_per_m3 =
         damping->quantity("Ksp", field(dimensions::force_per_volume, 1.0, "N/m^3", kPositive));

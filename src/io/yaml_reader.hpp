@@ -70,14 +70,16 @@ class SectionReader {
   /// line of its key), used for errors about the section as a whole.
   SectionReader(const YAML::Node& node, std::string path, int line, const Provenance& provenance);
 
-  /// Declares the keys this section accepts and reports the first other key
-  /// at once, before any field is read, so a typo is reported as such rather
-  /// than as the "missing field" it causes. Keys in `unsupported` are
-  /// recognised but not implemented: they get `unsupported_message`.
-  /// `context` qualifies the list ("for law 'linear'").
-  void allow(std::initializer_list<std::string_view> keys,
-             std::initializer_list<std::string_view> unsupported = {},
-             std::string_view unsupported_message = {}, std::string_view context = {});
+  /// Declares that this map is the job schema's section `schema_section`
+  /// (include/robomill/io/job_schema.hpp: "tool", "dynamics.modes[]",
+  /// "cutting[law=linear]"): it accepts exactly that section's keys. The
+  /// first other key is reported at once, before any field is read, so a typo
+  /// is reported as such rather than as the "missing field" it causes. Keys in
+  /// `unsupported` are recognised but not implemented: they get
+  /// `unsupported_message`. `context` qualifies the list ("for law 'linear'").
+  void allow_schema(std::string_view schema_section,
+                    std::initializer_list<std::string_view> unsupported = {},
+                    std::string_view unsupported_message = {}, std::string_view context = {});
 
   bool has(std::string_view key) const;
   /// True when the key is present and holds a list (for fields that take
@@ -162,6 +164,9 @@ class SectionReader {
   int read_integer(const Entry& entry, int min, int max) const;
   bool read_boolean(const Entry& entry) const;
   [[noreturn]] void unknown_key(const Entry& entry, std::string_view message) const;
+  /// For a schema::CoverageRecorder (tests): records that `key` was read and
+  /// checks that the schema section lists it.
+  void note_read(std::string_view key) const;
 
   std::string path_;
   int line_ = 0;
@@ -169,6 +174,7 @@ class SectionReader {
   std::vector<Entry> entries_;
   std::vector<std::string_view> allowed_;
   std::string context_;
+  std::string_view schema_section_;
 };
 
 }  // namespace robomill::io::detail

@@ -12,6 +12,7 @@
 #include "robomill/deflection/contact_boundary.hpp"
 #include "robomill/deflection/deformed_engagement.hpp"
 #include "robomill/deflection/node_compliance.hpp"
+#include "support/validation_record.hpp"
 
 namespace {
 
@@ -107,6 +108,8 @@ TEST(ContactBoundary, DeformationGrowsWithDepthAndStopsBeyondTheCriticalDepth) {
   // ap exceeds ap_lim (7.39 mm here); its actual entry angle exceeds the
   // nominal one.
   double previous = 0.0, at_limit = 0.0;
+  bool grows = true;
+  double beyond = 0.0;  // largest relative change beyond ap_lim
   for (const double ap_mm : {1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 7.38, 8.0, 9.0, 10.0, 12.0}) {
     const ContactBoundary b = solve_contact_boundary(problem_000(ap_mm * 1e-3, 1.0));
     const NodeState& node1 = b.generating(1);
@@ -120,14 +123,25 @@ TEST(ContactBoundary, DeformationGrowsWithDepthAndStopsBeyondTheCriticalDepth) {
     EXPECT_GT(dy_mm, 0.0);  // pushed away from the stock (+y in down milling)
     if (ap_mm <= 7.38) {
       EXPECT_GT(dy_mm, previous) << ap_mm;
+      grows = grows && dy_mm > previous;
       at_limit = dy_mm;
     } else {
       // Case 2: the contact line at K = 1 keeps its length; only the tool's
       // bending changes with the node spacing.
       EXPECT_NEAR(dy_mm, at_limit, 0.05 * at_limit) << ap_mm;
+      beyond = std::max(beyond, std::abs(dy_mm - at_limit) / at_limit);
     }
     previous = dy_mm;
   }
+  const char* assumptions =
+      "000's cut (Eq 39 coefficients, ae 4 mm, down milling); robot as a 1e6 N/m spring";
+  robomill::test::record_check("000", "Fig. 11", "node 1 deformation, 1 to 7.38 mm", "",
+                               "grows with ap", grows ? "grows" : "does not grow",
+                               "strictly increasing", grows, assumptions);
+  robomill::test::record_check(
+      "000", "Fig. 11", "node 1 deformation beyond ap_lim (8-12 mm)", "", "constant",
+      robomill::test::signed_sig4(robomill::test::quantize(100.0 * beyond, 0.01), " %"),
+      "±5 % of its value at ap_lim", beyond <= 0.05, assumptions);
 }
 
 TEST(ContactBoundary, ConvergesToTheToleranceOfEq29) {

@@ -19,6 +19,7 @@
 
 #include "robomill/core/error.hpp"
 #include "robomill/dynamics/modal_fit.hpp"
+#include "support/validation_record.hpp"
 
 namespace rd = robomill::dynamics;
 
@@ -111,6 +112,18 @@ void expect_table(const rd::ModalFit& fit, const std::vector<TrueMode>& truth, c
     EXPECT_LT(relative(m.natural_frequency_hz, t.fn_hz), 0.005) << axis << " mode " << i + 1;
     EXPECT_LT(relative(m.damping_ratio, t.zeta), 0.10) << axis << " mode " << i + 1;
     EXPECT_LT(relative(m.stiffness_n_per_m, t.k_n_per_m), 0.10) << axis << " mode " << i + 1;
+    if (print) {
+      const std::string item = std::string("Tab. 1 ") + axis + " mode " + std::to_string(i + 1) +
+                               " (" + method + " fit)";
+      const char* assumptions =
+          "synthetic driving-point FRF from Tab. 1, 10 Hz-6 kHz, 2 % complex noise (seed 2003)";
+      robomill::test::record_relative("003", item, "natural frequency (fitted)", "Hz", t.fn_hz,
+                                      m.natural_frequency_hz, 0.005, assumptions);
+      robomill::test::record_relative("003", item, "damping ratio (fitted)", "", t.zeta,
+                                      m.damping_ratio, 0.10, assumptions);
+      robomill::test::record_relative("003", item, "modal stiffness (fitted)", "N/m", t.k_n_per_m,
+                                      m.stiffness_n_per_m, 0.10, assumptions);
+    }
     EXPECT_NEAR(m.mass_kg * std::pow(2.0 * pi * m.natural_frequency_hz, 2), m.stiffness_n_per_m,
                 1e-9 * m.stiffness_n_per_m);
   }

@@ -48,10 +48,18 @@
 #include "robomill/simulation/response_metrics.hpp"
 #include "robomill/simulation/simulator.hpp"
 #include "robomill/simulation/spectrum.hpp"
+#include "support/validation_record.hpp"
 
 namespace {
 
 using namespace robomill;
+using test::record_check;
+using test::record_relative;
+using test::sig4;
+
+constexpr const char* kAssumptions =
+    "ap = 0.01816 mm fixed once from Tab. 1 row 1; zeta 0.05; straight flutes; border touching at "
+    "t = 0";
 
 struct Row {
   double mass_kg, stiffness_n_per_m;
@@ -137,6 +145,18 @@ TEST(Paper002, Table1OneDofFixation) {
     EXPECT_LE(std::abs(deviation_mm - p.deviation_mm), 0.10 * p.deviation_mm + 0.005)
         << "row " << i + 1;
     EXPECT_LE(std::abs(x.overshoot_pct - p.overshoot_pct), 3.0) << "row " << i + 1;
+    const std::string row = "Tab. 1 row " + std::to_string(i + 1);
+    record_relative("002", row, "first frequency f1", "Hz", p.frequency_hz, x.first_frequency_hz,
+                    0.05, kAssumptions);
+    record_check("002", row, "static deviation |x_s|", "mm", sig4(p.deviation_mm),
+                 sig4(deviation_mm), "±(10 % + 0.005)",
+                 std::abs(deviation_mm - p.deviation_mm) <= 0.10 * p.deviation_mm + 0.005,
+                 i == 0 ? "calibrates ap" : kAssumptions);
+    record_check("002", row, "overshoot PO", "%", sig4(p.overshoot_pct), sig4(x.overshoot_pct),
+                 "±3 points", std::abs(x.overshoot_pct - p.overshoot_pct) <= 3.0, kAssumptions);
+    record_check("002", row, "settling time tau_s", "s", sig4(p.settling_s),
+                 sig4(x.settling_time_s), "trend only (falls with K, rises with M)", true,
+                 kAssumptions);
     EXPECT_FALSE(runs[i].metrics.chatter.chatter) << "row " << i + 1;
   }
   // Trends: rows 1-5 raise K at M = 100 kg (PO and τs fall), rows 5-7 raise
@@ -179,6 +199,21 @@ TEST(Paper002, Table2TwoDofFixation) {
         p.fy_hz, y.first_frequency_hz, 100.0 * (y.first_frequency_hz / p.fy_hz - 1.0));
     EXPECT_LE(std::abs(x_mm - p.x_mm), 0.10 * p.x_mm + 0.005) << "row " << i + 1;
     EXPECT_LE(std::abs(y_mm - p.y_mm), 0.10 * p.y_mm + 0.005) << "row " << i + 1;
+    const std::string row = "Tab. 2 row " + std::to_string(i + 1);
+    record_check("002", row, "static deviation |x_s|", "mm", sig4(p.x_mm), sig4(x_mm),
+                 "±(10 % + 0.005)", std::abs(x_mm - p.x_mm) <= 0.10 * p.x_mm + 0.005, kAssumptions);
+    record_check("002", row, "static deviation |y_s|", "mm", sig4(p.y_mm), sig4(y_mm),
+                 "±(10 % + 0.005)", std::abs(y_mm - p.y_mm) <= 0.10 * p.y_mm + 0.005, kAssumptions);
+    const char* agrees = "±5 %";
+    const char* differs = "outside ±5 % (known finding, locked)";
+    record_check("002", row, "first frequency f1x", "Hz", sig4(p.fx_hz), sig4(x.first_frequency_hz),
+                 kTable2FrequencyAgrees[i][0] ? agrees : differs,
+                 (fx_error <= 0.05) == kTable2FrequencyAgrees[i][0],
+                 "process couples x and y (docs/validation.md)");
+    record_check("002", row, "first frequency f1y", "Hz", sig4(p.fy_hz), sig4(y.first_frequency_hz),
+                 kTable2FrequencyAgrees[i][1] ? agrees : differs,
+                 (fy_error <= 0.05) == kTable2FrequencyAgrees[i][1],
+                 "process couples x and y (docs/validation.md)");
     if (p.x_mm >= 0.05) {  // two significant digits in both deviations
       EXPECT_LE(relative(y_mm / x_mm, p.y_mm / p.x_mm), 0.10) << "row " << i + 1;
     }
@@ -217,6 +252,10 @@ TEST(Paper002, CaseCProfileDeviation) {
       low * 1e3, high * 1e3, r.result.time_s[at], r.metrics.direction[1].static_deviation_m * 1e3);
   EXPECT_LE(relative(high * 1e3, 0.56), 0.10);
   EXPECT_LE(relative(low * 1e3, 0.31), 0.10);
+  record_relative("002", "Fig. 9 (Case C)", "largest y deviation in engagement", "mm", 0.56,
+                  high * 1e3, 0.10, "the paper's M, K, C (examples/002_case_c_2dof.yaml)");
+  record_relative("002", "Fig. 9 (Case C)", "smallest y deviation after the peak", "mm", 0.31,
+                  low * 1e3, 0.10, "the paper's M, K, C (examples/002_case_c_2dof.yaml)");
 }
 
 // §3.2 / Figures 5-6, Case A (rigid): phase Ia — one tooth at a time for
@@ -261,6 +300,15 @@ TEST(Paper002, CaseAPhases) {
   EXPECT_GE(most_in_ib, 2);
   EXPECT_GE(slot_share, 0.95);
   EXPECT_NEAR(harmonic_hz, 10000.0 * 4 / 60.0, 0.5);
+  record_relative("002", "§3.2 (Case A, rigid)", "end of phase Ia (one tooth)", "s", 0.04,
+                  phase_ia_end, 0.15, "rigid fixation; border touching at t = 0");
+  record_check("002", "§3.2 (Case A, rigid)", "teeth cutting in phase Ib", "", ">= 2",
+               std::to_string(most_in_ib), ">= 2", most_in_ib >= 2, "rigid fixation");
+  record_check("002", "§3.2 (Case A, rigid)", "share of slot steps with n_c = 2", "", "1",
+               sig4(slot_share), ">= 0.95", slot_share >= 0.95,
+               "a tooth exactly at 0 or 180 deg counts as out");
+  test::record_near("002", "§3.2 (Case A, rigid)", "dominant force harmonic", "Hz",
+                    10000.0 * 4 / 60.0, harmonic_hz, 0.5, "FFT of Fx in the slot");
 }
 
 }  // namespace

@@ -28,6 +28,7 @@
 #include "robomill/io/job.hpp"
 #include "robomill/stability/lobes.hpp"
 #include "robomill/stability/process_damping.hpp"
+#include "support/validation_record.hpp"
 
 namespace {
 
@@ -80,6 +81,15 @@ TEST(Paper003, RobotModesGovernLowSpeedsAndTheToolModeHighSpeeds) {
   std::cout << "[validation] 003 Fig 4: the tool mode governs from " << transition_rpm
             << " rpm (paper: about 3000-3500 rpm)\n";
   EXPECT_GT(transition_rpm, 2000.0);
+  const char* assumptions = "Ksp 1.5e14 N/m^3, wear land 40 um, mu 0.3 (000's; 003 gives none)";
+  test::record_check(
+      "003", "Fig. 4", "chatter frequency at 6000 rpm (tool mode)", "Hz", "4000-5000",
+      test::sig4(limits.back().chatter_frequency_hz), "4000 … 5500",
+      limits.back().chatter_frequency_hz > 4000.0 && limits.back().chatter_frequency_hz < 5500.0,
+      assumptions);
+  test::record_check("003", "Fig. 4", "robot-to-tool transition speed", "rpm", "3000-3500",
+                     test::sig4(transition_rpm), "> 2000 (known disagreement)",
+                     transition_rpm > 2000.0, assumptions);
 }
 
 // 003 Table 2 and §4, the slot tests of examples/003_kr270_process_damping.yaml
@@ -164,6 +174,25 @@ TEST(Paper003, Table2SlotTestsAgainstTheCoupledDiagramAndTheEnvelope) {
   EXPECT_GT(pair.chatter_frequency_hz, 15.0);
   EXPECT_LT(pair.chatter_frequency_hz, 25.0);
   EXPECT_GT(std::min(x1.depth_limit_m, y1.depth_limit_m), 5.0 * pair.depth_limit_m);
+  const char* assumptions = "ZOA; energy-balance process damping with 000's Ksp, wear land, mu";
+  test::record_check(
+      "003", "Tab. 2, 1660 rpm", "dominant structure (coupled / envelope)", "", "robot",
+      std::string(structure(coupled_1660)) + " / " + structure(envelope_1660), "robot in both",
+      std::string(structure(coupled_1660)) == "robot" &&
+          std::string(structure(envelope_1660)) == "robot",
+      assumptions);
+  test::record_check("003", "Tab. 2, 1660 rpm", "limit, coupled diagram", "mm",
+                     "0.75-1.0 (stable 0.75, chatter 1.0)",
+                     test::sig4(coupled_1660.depth_limit_m * 1e3), "< 0.75 (brackets the truth)",
+                     coupled_1660.depth_limit_m < 0.75e-3, assumptions);
+  test::record_check("003", "Tab. 2, 1660 rpm", "limit, envelope of one-mode diagrams", "mm",
+                     "0.75-1.0 (stable 0.75, chatter 1.0)",
+                     test::sig4(envelope_1660.depth_limit_m * 1e3), "> 1.0 (brackets the truth)",
+                     envelope_1660.depth_limit_m > 1.0e-3, assumptions);
+  test::record_check("003", "Tab. 2, 1660 rpm", "chatter frequency of modes X1+Y1", "Hz",
+                     "17.8-19.9 (modes X1, Y1)", test::sig4(pair.chatter_frequency_hz), "15 … 25",
+                     pair.chatter_frequency_hz > 15.0 && pair.chatter_frequency_hz < 25.0,
+                     assumptions);
 }
 
 }  // namespace

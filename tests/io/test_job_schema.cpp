@@ -1,0 +1,148 @@
+// The job schema (include/robomill/io/job_schema.hpp) against the parser and
+// the generated reference. The parser takes every section's accepted keys
+// from the schema (SectionReader::allow_schema), so it cannot accept a key the
+// schema lacks; these tests check the other direction: every schema field is
+// read by the parser (the example jobs plus kitchen-sink jobs exercise them
+// all), the parser reads no key its schema section lacks, and the reference
+// lists every field.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <set>
+#include <string>
+
+#include "robomill/core/error.hpp"
+#include "robomill/io/job.hpp"
+#include "robomill/io/job_schema.hpp"
+
+namespace {
+
+using namespace robomill;
+namespace schema = io::schema;
+
+const std::filesystem::path kExamples = std::filesystem::path(ROBOMILL_SOURCE_DIR) / "examples";
+
+std::string field_id(const schema::Field& f) {
+  return std::string(f.section) + "." + std::string(f.key);
+}
+
+TEST(JobSchema, SectionsAndFieldsAreConsistent) {
+  std::set<std::string_view> ids;
+  for (const schema::Section& s : schema::sections()) {
+    EXPECT_TRUE(ids.insert(s.id).second) << "section listed twice: " << s.id;
+    EXPECT_FALSE(s.description.empty()) << s.id;
+    const auto& keys = schema::keys(s.id);
+    EXPECT_FALSE(keys.empty()) << "section without fields: " << s.id;
+    const std::set<std::string_view> unique(keys.begin(), keys.end());
+    EXPECT_EQ(unique.size(), keys.size()) << "a key listed twice in " << s.id;
+  }
+  for (const schema::Field& f : schema::fields()) {
+    EXPECT_TRUE(ids.count(f.section)) << field_id(f);
+    EXPECT_FALSE(f.description.empty()) << field_id(f);
+    // A unit must parse: the dimension column comes from it.
+    if (!f.unit.empty()) {
+      EXPECT_NO_THROW(schema::dimension(f)) << field_id(f);
+    }
+    // A map or list field names the section that describes its items.
+    if (f.kind == schema::Kind::map || f.kind == schema::Kind::list) {
+      const std::string child = std::string(schema::path(f));
+      const bool described = ids.count(child) || ids.count(child + "[]") ||
+                             (f.section == "job" && (ids.count(f.key) || ids.count(child + "[]")));
+      const bool refers = f.description.find('`') != std::string_view::npos;
+      EXPECT_TRUE(described || refers) << field_id(f);
+    }
+  }
+  EXPECT_THROW(schema::keys("no.such.section"), std::logic_error);
+}
+
+TEST(JobSchema, ParserRejectsAKeyOutsideTheSchema) {
+  try {
+    io::parse_job("tool: {diameter: 10 mm, teeth: 2, colour: red}\n", "job.yaml");
+    FAIL() << "unknown key accepted";
+  } catch (const InputError& e) {
+    const std::string text = e.what();
+    EXPECT_NE(text.find("tool.colour"), std::string::npos) << text;
+    // The message lists the schema's keys, in the schema's order.
+    EXPECT_NE(text.find("type, diameter, teeth, helix, overhang, E, runout"), std::string::npos)
+        << text;
+  }
+}
+
+TEST(JobSchema, ReferenceListsEveryField) {
+  const std::string page = schema::markdown();
+  for (const schema::Field& f : schema::fields())
+    EXPECT_NE(page.find("| `" + schema::path(f) + "` |"), std::string::npos) << field_id(f);
+  for (const schema::Section& s : schema::sections())
+    EXPECT_NE(page.find(std::string(s.description)), std::string::npos) << s.id;
+}
+
+// Jobs exercising the fields the examples leave out (together with the
+// examples, every field of the schema).
+const char* const kKitchenSinks[] = {
+    // The exponential law; measured FRFs by direction, fit bands; output; a
+    // robot base frame.
+    R"(name: kitchen sink 1
+tool: {diameter: 12 mm, teeth: 2, helix: 30 deg, overhang: 50 mm}
+cutting: {law: exponential, kF: 500 N/mm, exponent: 0.8, chip_unit: 1 mm, kr: 0.3, ka: 0.1}
+process: {spindle: 3210 rpm, feed_per_tooth: 0.05 mm, ap: 1 mm, ae: 12 mm}
+dynamics:
+  frf:
+    x: {file: data/003_kr270_tab1.uff, format: uff58, response: x, reference: x}
+    y: data/003_kr270_tab1.uff
+    z: data/003_kr270_tab1.uff
+  fit:
+    max_order: 30
+    bands: [{from: 10 Hz, to: 100 Hz, max_order: 20}, {from: 100 Hz, to: 6000 Hz}]
+robot:
+  dh: [{a: 0, alpha: 0, d: 0, theta: 0}]
+  joint_stiffness: [1e6]
+  base: {xyz: [0, 0, 100], rpy: [0, 0, 90]}
+output: {dir: out/kitchen-sink, formats: [csv, json]}
+)",
+    // A simulation by revolutions with process damping; the deflection sweep.
+    R"(name: kitchen sink 2
+tool: {diameter: 10 mm, teeth: 2, overhang: 40 mm}
+cutting: {law: linear, Ktc: 800 N/mm^2, Krc: 200 N/mm^2}
+process: {spindle: 6000 rpm, feed_per_tooth: 0.05 mm, ap: 2 mm, ae: 2 mm, direction: down}
+simulation:
+  model: rigid
+  revolutions: 20
+  process_damping: {Ksp: 1.5e14 N/m^3, wear_land: 40 um, mu: 0.3}
+deflection:
+  depths: {from: 1 mm, to: 4 mm, count: 4}
+)",
+};
+
+TEST(JobSchema, ExamplesAndKitchenSinksReadEveryField) {
+  schema::CoverageRecorder recorder;
+  int parsed = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(kExamples)) {
+    if (entry.path().extension() != ".yaml")
+      continue;
+    SCOPED_TRACE(entry.path().filename().string());
+    EXPECT_NO_THROW(io::load_job(entry.path()));
+    ++parsed;
+  }
+  EXPECT_GE(parsed, 10);
+  int sink = 0;
+  for (const char* text : kKitchenSinks) {
+    SCOPED_TRACE("kitchen sink " + std::to_string(sink++));
+    try {
+      io::parse_job(text, kExamples / "kitchen_sink.yaml");
+    } catch (const InputError& e) {
+      ADD_FAILURE() << e.what();
+    }
+  }
+  std::set<std::string> unread;
+  for (const schema::Field& f : schema::fields()) {
+    if (!recorder.read().count(field_id(f)))
+      unread.insert(field_id(f));
+  }
+  std::string list;
+  for (const auto& id : unread)
+    list += "\n  " + id;
+  EXPECT_TRUE(unread.empty()) << unread.size() << " schema fields no job read:" << list;
+}
+
+}  // namespace
