@@ -166,7 +166,7 @@ void check_settings(const io::Job& job, const io::SimulationSettings& s,
   if (s.border_gap_m) {
     if (*s.border_gap_m >= travel)
       throw InputError(
-          "simulation.workpiece.border", s.border_line,
+          "simulation." + s.workpiece_key + ".border", s.border_line,
           fmt::format("the cutter never reaches the part: it travels {:.4g} mm in {:.4g} s at "
                       "{:.4g} mm/min, less than the {:.4g} mm gap; use a border below {:.4g} mm "
                       "or a duration above {:.4g} s",

@@ -424,8 +424,29 @@ CommandResult compute_stability(const io::Job& job, int threads) {
                               : "linear_equivalent"},
       {"experiments", experiment_check(job, modes ? &*modes : nullptr, primary)},
   };
-  if (settings.method != Settings::Method::zoa)
+  std::string convergence_warning;
+  if (settings.method != Settings::Method::zoa) {
     summary["discretization"] = settings.discretization;
+    if (modes && modes->size() > 0) {
+      // The parser asks for two steps per period of the highest mode (no
+      // aliasing); the boundary converges at about eight (docs/assumptions.md,
+      // measured on the 1-DOF benchmark at 1500 rpm: 2.2 steps per period
+      // put the limit 2.4x too high).
+      const double tau_max_s = 2.0 * std::numbers::pi / (job.tool->teeth * speeds.front());
+      const double per_period =
+          settings.discretization / (modes->highest_frequency_hz() * tau_max_s);
+      summary["steps_per_period_of_highest_mode"] = per_period;
+      if (per_period < 8.0) {
+        convergence_warning = fmt::format(
+            "{} steps per tooth period give {:.1f} steps per period of the {:.4g} Hz mode at "
+            "{:.0f} rpm: the lowest speeds may not be converged; discretization: {:.0f} gives 8",
+            settings.discretization, per_period, modes->highest_frequency_hz(),
+            speeds.front() * kRpmPerRadS,
+            std::ceil(8.0 * modes->highest_frequency_hz() * tau_max_s));
+        summary["discretization_warning"] = convergence_warning;
+      }
+    }
+  }
   if (job.posture_library) {
     // 001 Eq 16-18: where the table was interpolated and with what weights.
     const io::PostureLibrary& library = *job.posture_library;
@@ -521,6 +542,8 @@ CommandResult compute_stability(const io::Job& job, int threads) {
       "stability ({}): {} speeds in {:.3f} s; limit {:.3f} mm (at {:.0f} rpm) … {:.3f} mm\n",
       method_name(settings.method), speeds.size(), elapsed_s, figures["min_limit_mm"].get<double>(),
       figures["min_limit_spindle_rpm"].get<double>(), figures["max_limit_mm"].get<double>());
+  if (!convergence_warning.empty())
+    result.message += "  warning: " + convergence_warning + "\n";
   if (!job.experiments.empty()) {
     const nlohmann::json& check = result.summary["experiments"];
     result.message += fmt::format("  experiments: {} of {} agree with the prediction\n",

@@ -159,8 +159,18 @@ void read_simulation(SectionReader& root, Job& job) {
   s.damping_ratio = r.quantity_or(
       "damping_ratio", field(dimensions::none, 1.0, "", kPositive, Bound{1.0, false}), 0.0);
 
-  if (auto workpiece = r.section("workpiece")) {
-    workpiece->allow_schema("simulation.workpiece");
+  // DESIGN.md §3 names the part `workpiece_mesh` (002 §3.3's mesh, here a
+  // swept-surface memory): both names are accepted, one at a time.
+  if (r.has("workpiece_mesh")) {
+    if (r.has("workpiece"))
+      r.fail("workpiece_mesh",
+             "give the part once: workpiece and workpiece_mesh are the same section");
+    s.workpiece_key = "workpiece_mesh";
+  }
+  if (auto workpiece = r.section(s.workpiece_key)) {
+    // Literals: allow_schema keeps a view of the section's name.
+    workpiece->allow_schema(s.workpiece_key == "workpiece" ? "simulation.workpiece"
+                                                           : "simulation.workpiece_mesh");
     s.border_line = workpiece->line_of("border");
     s.border_gap_m =
         workpiece->quantity("border", field(dimensions::length, 1e-3, "mm", kNonNegative));

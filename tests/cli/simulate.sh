@@ -46,6 +46,10 @@ awk -v a="$a" -v b="$b" 'BEGIN { d = a - b; if (d < 0) d = -d; s = b < 0 ? -b : 
 # Bad settings: the field, and what would work.
 expect_exit2 "steps_per_tooth: 8" simulate "$B" --set simulation.steps_per_tooth=4
 expect_exit2 "simulation.workpiece.border" simulate "$B" --set simulation.workpiece.border=200
+# DESIGN.md's name for the part is accepted too, once.
+sed 's/workpiece: {border: 0 mm}/workpiece_mesh: {border: 200 mm}/' "$B" > "$WORK/mesh.yaml"
+expect_exit2 "simulation.workpiece_mesh.border" simulate "$WORK/mesh.yaml"
+expect_exit2 "the same section" simulate "$B" --set 'simulation.workpiece_mesh={border: 2}'
 expect_exit2 "needs duration" simulate "$B" --set simulation.duration=0.3
 expect_exit2 "simulation.fixation" simulate "$B" --set simulation.model=2dof
 expect_exit2 "give either duration or revolutions" simulate "$B" --set simulation.revolutions=10

@@ -41,4 +41,12 @@ case "$msg" in *stability.mode*) ;; *) fail "zoa map: field not named: $msg" ;; 
 "$ROBOMILL" stability "$SOURCE/examples/001_ball_end_surface.yaml" --out "$WORK/bad2" 2>/dev/null
 [ $? -eq 2 ] || fail "job without stability section: exit code"
 [ ! -e "$WORK/bad" ] && [ ! -e "$WORK/bad2" ] || fail "output left after an error"
+# Two steps per mode period pass the parser (no aliasing) but do not converge
+# the boundary: at 1500 rpm the benchmark's 40 steps are 2.2 per period of its
+# 922 Hz mode, and the command says so, with the discretization that gives 8.
+out=$("$ROBOMILL" stability "$SOURCE/examples/benchmark_1dof_005.yaml" --out "$WORK/coarse" \
+  --set stability.speeds.from="1500 rpm" --set stability.speeds.count=3) || fail "coarse run"
+case "$out" in *"2.2 steps per period of the 922 Hz mode"*"discretization: 148 gives 8"*) ;;
+  *) fail "no convergence warning: $out" ;; esac
+grep -q '"discretization_warning"' "$WORK/coarse/summary.json" || fail "warning not in summary.json"
 finish

@@ -109,6 +109,7 @@ simulation:
   model: rigid
   revolutions: 20
   process_damping: {Ksp: 1.5e14 N/m^3, wear_land: 40 um, mu: 0.3}
+  workpiece_mesh: {border: 1 mm}
 deflection:
   depths: {from: 1 mm, to: 4 mm, count: 4}
 )",

@@ -189,9 +189,11 @@ struct SimulationSettings {
   std::string duration_key = "duration";  ///< the key the user gave it by
   int steps_per_tooth = 40;
   int axial_elements = 0;  ///< 0: as `forces` (helix lag ≤ 0.5° per element)
-  /// `workpiece.border`: gap between the cutter's leading edge and the part's
-  /// straight border at t = 0 (0: touching, 002's t = 0); none: in the cut.
+  /// `workpiece.border` (or `workpiece_mesh.border`, DESIGN.md's name): gap
+  /// between the cutter's leading edge and the part's straight border at
+  /// t = 0 (0: touching, 002's t = 0); none: in the cut.
   std::optional<double> border_gap_m;
+  std::string workpiece_key = "workpiece";  ///< the key the user gave it by
   double steady_window_s = 0.0;  ///< `steady_revolutions` (default: the last 20 % of the run)
   double start_angle_rad = 0.0;  ///< `start_angle`: tooth 1's angle at t = 0
   int record_every = 1;          ///< `record_every`: rows of timeseries.csv per step
