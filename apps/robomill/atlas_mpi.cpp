@@ -166,12 +166,7 @@ int run_atlas_mpi(const AtlasOptions& options, int rank, int ranks) {
     throw InputError("atlas", 0, "required: the atlas: section (grid, analyses, store)");
   const atlas::AtlasSpec& spec = *job.atlas;
   const robot::RobotModel model(job.robot->description);
-  const Eigen::VectorXd seed =
-      Eigen::Map<const Eigen::VectorXd>(job.robot->posture_rad.data(), model.dof());
-  std::optional<tool::Tool> tool;
-  if (job.tool)
-    tool.emplace(*job.tool);
-  const atlas::AtlasContext context(spec, model, seed, tool, job.cutting, job.process);
+  const atlas::AtlasContext context = atlas_context(job, model);
   if (rank != 0) {
     worker_rank(context, spec, model.dof());
     return 0;

@@ -46,6 +46,16 @@ extern "C" void on_interrupt(int) {
 
 }  // namespace
 
+atlas::AtlasContext atlas_context(const io::Job& job, const robot::RobotModel& model) {
+  std::optional<tool::Tool> tool;
+  if (job.tool)
+    tool.emplace(*job.tool);
+  return atlas::AtlasContext(
+      *job.atlas, model,
+      Eigen::Map<const Eigen::VectorXd>(job.robot->posture_rad.data(), model.dof()), tool,
+      job.cutting, job.process);
+}
+
 /// The job as the store records it: the file's bytes, then each --set.
 atlas::StoreIdentity atlas_store_identity(const JobCommandOptions& options, int dof) {
   std::ifstream in(options.job_file, std::ios::binary);
@@ -170,12 +180,7 @@ int run_atlas(const AtlasOptions& options) {
     if (!options.export_dir.empty())
       return export_store(options, job, identity);
 
-    const Eigen::VectorXd seed =
-        Eigen::Map<const Eigen::VectorXd>(job.robot->posture_rad.data(), model.dof());
-    std::optional<tool::Tool> tool;
-    if (job.tool)
-      tool.emplace(*job.tool);
-    const atlas::AtlasContext context(spec, model, seed, tool, job.cutting, job.process);
+    const atlas::AtlasContext context = atlas_context(job, model);
 
     atlas::AtlasStore store(spec.store, identity, spec, options.restart);
     const std::vector<std::int64_t> pending = store.pending();

@@ -129,14 +129,9 @@ CommandResult compute_deflection(io::Job job, int threads) {
 }
 
 int run_deflection(const JobCommandOptions& options) {
-  const io::Job job = load(options);
-  CommandResult result = compute_deflection(job, options.threads);
-  const std::filesystem::path out = output_dir(options, job, "deflection");
-  add_key_inputs(result, job);
-  write_result(out, job.output, result, !options.quiet);
-  if (!options.quiet)
-    std::cout << result.message << "  written to " << out.string() << '\n';
-  return 0;
+  return run_job_command(options, "deflection", [&](const io::Job& job) {
+    return compute_deflection(job, options.threads);
+  });
 }
 
 }  // namespace robomill::app

@@ -144,14 +144,8 @@ CommandResult compute_fit_modes(const io::Job& job) {
 }
 
 int run_fit_modes(const JobCommandOptions& options) {
-  const io::Job job = load(options);
-  CommandResult result = compute_fit_modes(job);
-  const std::filesystem::path out = output_dir(options, job, "fit-modes");
-  add_key_inputs(result, job);
-  write_result(out, job.output, result, !options.quiet);
-  if (!options.quiet)
-    std::cout << result.message << "  written to " << out.string() << '\n';
-  return 0;
+  return run_job_command(options, "fit-modes",
+                         [&](const io::Job& job) { return compute_fit_modes(job); });
 }
 
 }  // namespace robomill::app

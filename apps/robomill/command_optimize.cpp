@@ -251,14 +251,9 @@ CommandResult compute_optimize(const io::Job& job, int threads) {
 }
 
 int run_optimize(const JobCommandOptions& options) {
-  const io::Job job = load(options);
-  CommandResult result = compute_optimize(job, options.threads);
-  const std::filesystem::path out = output_dir(options, job, "optimize");
-  add_key_inputs(result, job);
-  write_result(out, job.output, result, !options.quiet);
-  if (!options.quiet)
-    std::cout << result.message << "  written to " << out.string() << '\n';
-  return 0;
+  return run_job_command(options, "optimize", [&](const io::Job& job) {
+    return compute_optimize(job, options.threads);
+  });
 }
 
 }  // namespace robomill::app

@@ -320,14 +320,8 @@ CommandResult compute_robot(const io::Job& job, int threads) {
 }
 
 int run_robot(const JobCommandOptions& options) {
-  const io::Job job = load(options);
-  CommandResult result = compute_robot(job, options.threads);
-  const std::filesystem::path out = output_dir(options, job, "robot");
-  add_key_inputs(result, job);
-  write_result(out, job.output, result, !options.quiet);
-  if (!options.quiet)
-    std::cout << result.message << "  written to " << out.string() << '\n';
-  return 0;
+  return run_job_command(options, "robot",
+                         [&](const io::Job& job) { return compute_robot(job, options.threads); });
 }
 
 }  // namespace robomill::app

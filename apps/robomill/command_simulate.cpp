@@ -339,14 +339,8 @@ CommandResult compute_simulate(const io::Job& job) {
 }
 
 int run_simulate(const JobCommandOptions& options) {
-  const io::Job job = load(options);
-  CommandResult result = compute_simulate(job);
-  const std::filesystem::path out = output_dir(options, job, "simulate");
-  add_key_inputs(result, job);
-  write_result(out, job.output, result, !options.quiet);
-  if (!options.quiet)
-    std::cout << result.message << "  wrote " << out.string() << '\n';
-  return 0;
+  return run_job_command(options, "simulate",
+                         [&](const io::Job& job) { return compute_simulate(job); });
 }
 
 }  // namespace robomill::app

@@ -553,14 +553,9 @@ CommandResult compute_stability(const io::Job& job, int threads) {
 }
 
 int run_stability(const JobCommandOptions& options) {
-  const io::Job job = load(options);
-  CommandResult result = compute_stability(job, options.threads);
-  const std::filesystem::path out = output_dir(options, job, "stability");
-  add_key_inputs(result, job);
-  write_result(out, job.output, result, !options.quiet);
-  if (!options.quiet)
-    std::cout << result.message << "  written to " << out.string() << '\n';
-  return 0;
+  return run_job_command(options, "stability", [&](const io::Job& job) {
+    return compute_stability(job, options.threads);
+  });
 }
 
 }  // namespace robomill::app

@@ -7,11 +7,13 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "robomill/atlas/atlas.hpp"
 #include "robomill/atlas/store.hpp"
 #include "robomill/io/csv.hpp"
 #include "robomill/io/job.hpp"
@@ -65,6 +67,14 @@ std::filesystem::path output_dir(const JobCommandOptions& options, const io::Job
                                  const std::string& command);
 
 int run_validate(const JobCommandOptions& options);
+
+/// The sections a job has, in `robomill validate`'s order and names.
+std::vector<std::string> job_sections(const io::Job& job);
+
+/// A job command's whole run: load the job, compute, add the key inputs,
+/// write (with report.html unless --quiet), print the message and the folder.
+int run_job_command(const JobCommandOptions& options, const std::string& command,
+                    const std::function<CommandResult(const io::Job&)>& compute);
 
 // The computations behind the commands (the command line and the Python
 // module call these; they throw what the commands report).
@@ -138,6 +148,11 @@ struct AtlasOptions {
   bool restart = false;  ///< discard a store written by another job
 };
 int run_atlas(const AtlasOptions& options);
+
+/// The atlas's computation for a job with an atlas: and a robot: section
+/// (the robot's posture seeds every item's inverse kinematics); `model` must
+/// outlive it.
+atlas::AtlasContext atlas_context(const io::Job& job, const robot::RobotModel& model);
 
 /// The job as an atlas store records it (its hash decides whether a store may
 /// be resumed): the job file's bytes, then each --set.

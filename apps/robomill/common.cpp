@@ -1,5 +1,6 @@
 #include <fmt/format.h>
 
+#include <functional>
 #include <iostream>
 
 #include "commands.hpp"
@@ -72,22 +73,41 @@ void write_result(const std::filesystem::path& out, const io::OutputSettings& ou
   bundle.commit();
 }
 
+int run_job_command(const JobCommandOptions& options, const std::string& command,
+                    const std::function<CommandResult(const io::Job&)>& compute) {
+  const io::Job job = load(options);
+  CommandResult result = compute(job);
+  const std::filesystem::path out = output_dir(options, job, command);
+  add_key_inputs(result, job);
+  write_result(out, job.output, result, !options.quiet);
+  if (!options.quiet)
+    std::cout << result.message << "  written to " << out.string() << '\n';
+  return 0;
+}
+
+std::vector<std::string> job_sections(const io::Job& job) {
+  std::vector<std::string> sections;
+  auto add = [&](bool present, const char* name) {
+    if (present)
+      sections.emplace_back(name);
+  };
+  add(job.tool.has_value(), "tool");
+  add(job.cutting.has_value(), "cutting");
+  add(job.process.has_value(), "process");
+  add(!job.modes.empty() || !job.frf_files.empty(), "dynamics");
+  add(job.stability.has_value(), "stability");
+  add(job.robot.has_value(), "robot");
+  add(!job.experiments.empty(), "experiments");
+  return sections;
+}
+
 int run_validate(const JobCommandOptions& options) {
   const io::Job job = load(options);
   if (!options.quiet) {
     std::cout << options.job_file.string() << ": valid";
     std::string sections;
-    auto add = [&](bool present, const char* name) {
-      if (present)
-        sections += sections.empty() ? name : std::string(", ") + name;
-    };
-    add(job.tool.has_value(), "tool");
-    add(job.cutting.has_value(), "cutting");
-    add(job.process.has_value(), "process");
-    add(!job.modes.empty() || !job.frf_files.empty(), "dynamics");
-    add(job.stability.has_value(), "stability");
-    add(job.robot.has_value(), "robot");
-    add(!job.experiments.empty(), "experiments");
+    for (const std::string& name : job_sections(job))
+      sections += sections.empty() ? name : ", " + name;
     if (!sections.empty())
       std::cout << " (" << sections << ")";
     std::cout << '\n';

@@ -219,21 +219,7 @@ PYBIND11_MODULE(_robomill, m) {
                              })
       .def_property_readonly("name", [](const JobHandle& h) { return job_of(h).name; })
       .def_property_readonly("sections", [](const JobHandle& h) {
-        const robomill::io::Job& job = job_of(h);
-        std::vector<std::string> sections;
-        auto add = [&](bool present, const char* name) {
-          if (present)
-            sections.emplace_back(name);
-        };
-        // The order and names of `robomill validate`'s line.
-        add(job.tool.has_value(), "tool");
-        add(job.cutting.has_value(), "cutting");
-        add(job.process.has_value(), "process");
-        add(!job.modes.empty() || !job.frf_files.empty(), "dynamics");
-        add(job.stability.has_value(), "stability");
-        add(job.robot.has_value(), "robot");
-        add(!job.experiments.empty(), "experiments");
-        return sections;
+        return robomill::app::job_sections(job_of(h));  // as `robomill validate` lists them
       });
 
   using Out = std::optional<std::filesystem::path>;
