@@ -8,26 +8,15 @@
 
 #include "robomill/io/job.hpp"
 #include "robomill/planning/path_performance.hpp"
+#include "support/case004.hpp"
 
 namespace {
 
 using namespace robomill;
 
-struct Setup {
-  io::Job job =
-      io::load_job(std::string(ROBOMILL_SOURCE_DIR) + "/examples/004_kr300_pose_optimization.yaml");
-  robot::RobotModel robot{job.robot->description};
-  tool::Tool cutter{*job.tool};
-  cutting::MillingForceModel force{cutter, *job.cutting, *job.process,
-                                   cutting::default_axial_elements(cutter, 2e-3)};
+struct Setup : test::Case004 {
   planning::PlacementProblem problem;
-  explicit Setup(planning::OffsetMeasure measure) {
-    problem.cell = job.workpiece->cell;
-    problem.path = job.path;
-    problem.force = planning::force_harmonics(force, 256, 60);
-    problem.seed_posture_rad = Eigen::Map<const Eigen::VectorXd>(job.robot->posture_rad.data(), 3);
-    problem.measure = measure;
-  }
+  explicit Setup(planning::OffsetMeasure measure) : problem(Case004::problem(measure)) {}
 };
 
 void BM_PathEvaluation(benchmark::State& state) {

@@ -9,27 +9,17 @@
 #include "robomill/io/job.hpp"
 #include "robomill/planning/path_performance.hpp"
 #include "robomill/planning/pose_optimization.hpp"
+#include "support/case004.hpp"
 
 namespace {
 
 using namespace robomill;
 constexpr double kPi = std::numbers::pi;
 
-struct Case004 {
-  io::Job job =
-      io::load_job(std::string(ROBOMILL_SOURCE_DIR) + "/examples/004_kr300_pose_optimization.yaml");
-  robot::RobotModel robot{job.robot->description};
-  tool::Tool cutter{*job.tool};
-  cutting::MillingForceModel force{cutter, *job.cutting, *job.process,
-                                   cutting::default_axial_elements(cutter, 2e-3)};
+// The example job's case with the peak offset (the tests' measure).
+struct Case004 : test::Case004 {
   planning::PlacementProblem problem() const {
-    planning::PlacementProblem p;
-    p.cell = job.workpiece->cell;
-    p.path = job.path;
-    p.force = planning::force_harmonics(force, 256, 60);
-    p.seed_posture_rad = Eigen::Map<const Eigen::VectorXd>(job.robot->posture_rad.data(), 3);
-    p.measure = planning::OffsetMeasure::peak;
-    return p;
+    return test::Case004::problem(planning::OffsetMeasure::peak);
   }
 };
 

@@ -25,6 +25,7 @@
 
 #include "robomill/io/job.hpp"
 #include "robomill/planning/pose_optimization.hpp"
+#include "support/case004.hpp"
 #include "support/validation_record.hpp"
 
 namespace {
@@ -32,22 +33,9 @@ namespace {
 using namespace robomill;
 constexpr double kPi = std::numbers::pi;
 
-struct Table2 {
-  io::Job job =
-      io::load_job(std::string(ROBOMILL_SOURCE_DIR) + "/examples/004_kr300_pose_optimization.yaml");
-  robot::RobotModel robot{job.robot->description};
-  tool::Tool cutter{*job.tool};
-  cutting::MillingForceModel force{cutter, *job.cutting, *job.process,
-                                   cutting::default_axial_elements(cutter, 2e-3)};
-  planning::PlacementProblem problem;
-  Table2() {
-    problem.cell = job.workpiece->cell;
-    problem.path = job.path;
-    problem.force =
-        planning::force_harmonics(force, job.optimize->samples, job.optimize->harmonics);
-    problem.seed_posture_rad = Eigen::Map<const Eigen::VectorXd>(job.robot->posture_rad.data(), 3);
-    problem.measure = job.optimize->measure;
-  }
+// The example job's case with the job's own measure (startup).
+struct Table2 : test::Case004 {
+  planning::PlacementProblem problem = Case004::problem();
 };
 
 const double kPaperDm[6] = {0.73e-3, 0.32e-3, 0.54e-3, 0.25e-3, 0.25e-3, 0.22e-3};
