@@ -399,6 +399,17 @@ std::optional<std::vector<double>> SectionReader::quantities(std::string_view ke
   return values;
 }
 
+Eigen::Vector3d SectionReader::unit_vector_or(std::string_view key,
+                                              const Eigen::Vector3d& fallback) {
+  const auto v = quantities(key, dimensionless(), 3);
+  if (!v)
+    return fallback;
+  const Eigen::Vector3d d((*v)[0], (*v)[1], (*v)[2]);
+  if (!(d.norm() > 0.0))
+    fail(key, "the direction must not be zero");
+  return d.normalized();
+}
+
 double SectionReader::quantity(std::string_view key, const QuantityField& field) {
   if (auto value = optional_quantity(key, field))
     return *value;
@@ -1441,17 +1452,6 @@ Eigen::Isometry3d read_frame(SectionReader& f, std::string_view schema_section) 
   return frame;
 }
 
-Eigen::Vector3d read_direction(SectionReader& r, std::string_view key,
-                               const Eigen::Vector3d& fallback) {
-  const auto v = r.quantities(key, dimensionless(), 3);
-  if (!v)
-    return fallback;
-  const Eigen::Vector3d d((*v)[0], (*v)[1], (*v)[2]);
-  if (!(d.norm() > 0.0))
-    r.fail(key, "the direction must not be zero");
-  return d.normalized();
-}
-
 RobotSettings read_robot_section(SectionReader& r, const std::filesystem::path& source) {
   r.allow_schema("robot");
   RobotSettings settings;
@@ -1616,8 +1616,8 @@ RobotSettings read_robot_section(SectionReader& r, const std::filesystem::path& 
       std::copy(counts->begin(), counts->end(), grid.counts.begin());
     if (static_cast<long>(grid.counts[0]) * grid.counts[1] * grid.counts[2] > 1000000)
       map->fail("counts", "more than 1 000 000 grid points");
-    grid.tool_axis = read_direction(*map, "tool_axis", grid.tool_axis);
-    grid.feed = read_direction(*map, "feed", grid.feed);
+    grid.tool_axis = map->unit_vector_or("tool_axis", grid.tool_axis);
+    grid.feed = map->unit_vector_or("feed", grid.feed);
     // The feed lies in the cutting plane: remove its component along the tool axis.
     grid.feed -= grid.feed.dot(grid.tool_axis) * grid.tool_axis;
     if (!(grid.feed.norm() > 1e-9))

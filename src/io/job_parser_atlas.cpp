@@ -13,20 +13,6 @@
 #include <numbers>
 
 namespace robomill::io::detail {
-namespace {
-
-Eigen::Vector3d direction(SectionReader& r, std::string_view key, const Eigen::Vector3d& fallback) {
-  const auto v = r.quantities(key, field(dimensions::none, 1.0, ""), 3);
-  if (!v)
-    return fallback;
-  const Eigen::Vector3d d((*v)[0], (*v)[1], (*v)[2]);
-  if (!(d.norm() > 0.0))
-    r.fail(key, "the direction must not be zero");
-  return d.normalized();
-}
-
-}  // namespace
-
 void read_atlas(SectionReader& root, Job& job) {
   auto section = root.section("atlas");
   if (!section)
@@ -55,8 +41,8 @@ void read_atlas(SectionReader& root, Job& job) {
   std::copy(counts->begin(), counts->end(), spec.counts.begin());
   grid->finish();
 
-  spec.tool_axis = direction(r, "tool_axis", spec.tool_axis);
-  spec.feed = direction(r, "feed", spec.feed);
+  spec.tool_axis = r.unit_vector_or("tool_axis", spec.tool_axis);
+  spec.feed = r.unit_vector_or("feed", spec.feed);
   spec.feed -= spec.feed.dot(spec.tool_axis) * spec.tool_axis;
   if (!(spec.feed.norm() > 1e-9))
     r.fail("feed", "must not be parallel to tool_axis");

@@ -12,6 +12,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <Eigen/Core>
+
 #include <initializer_list>
 #include <optional>
 #include <string>
@@ -95,6 +97,9 @@ class SectionReader {
   /// the field's; `count` > 0 requires that many. Errors name the item.
   std::optional<std::vector<double>> quantities(std::string_view key, const QuantityField& field,
                                                 std::size_t count = 0);
+  /// A direction: three numbers, returned normalized; `fallback` when the key
+  /// is absent. A zero vector is an error naming the key.
+  Eigen::Vector3d unit_vector_or(std::string_view key, const Eigen::Vector3d& fallback);
 
   int integer(std::string_view key, int min, int max);
   int integer_or(std::string_view key, int min, int max, int default_value);
