@@ -37,6 +37,7 @@ int run_deflection(const JobCommandOptions& options);
 int run_optimize(const JobCommandOptions& options);
 int run_advise(const JobCommandOptions& options);
 int run_simulate(const JobCommandOptions& options);
+int run_surface(const JobCommandOptions& options);
 
 struct IdentifyOptions {
   std::filesystem::path data_file;

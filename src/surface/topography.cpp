@@ -62,6 +62,15 @@ Band evaluated_band(const tool::Tool& tool, double axial_depth_m,
   return {0.0, std::min(axial_depth_m + budget_m, budget_m / cos_theta + radius * std::sin(theta))};
 }
 
+double lateral_reach(const tool::Tool& tool, const ToolOrientation& orientation, const Band& band) {
+  const double radius = tool.radius_m();
+  if (tool.type() != tool::ToolType::ball)
+    return 2.0 * radius + band.to;
+  const double theta = axis_angle(orientation);
+  return radius * std::sin(std::min(0.5 * std::numbers::pi,
+                                    std::max(band.to - theta, theta - band.from) + 1e-3));
+}
+
 double automatic_budget(const tool::Tool& tool, const ToolOrientation& orientation,
                         const RasterPath& path, double vibration_amplitude_m) {
   const double radius = tool.radius_m();
@@ -70,7 +79,7 @@ double automatic_budget(const tool::Tool& tool, const ToolOrientation& orientati
   const double kinematic = scallop_height(radius, std::min(path.stepover_m, 2.0 * radius)) +
                            scallop_height(radius, std::min(per_revolution, 2.0 * radius));
   return 3.0 * kinematic + 2.0 * tool.runout().offset_m * std::sin(theta) +
-         4.0 * vibration_amplitude_m + 2e-6;
+         4.0 * vibration_amplitude_m + 0.5e-6;
 }
 
 double max_edge_radius(const tool::Tool& tool, const Band& band) {
@@ -80,6 +89,11 @@ double max_edge_radius(const tool::Tool& tool, const Band& band) {
 }
 
 }  // namespace
+
+double automatic_height_budget(const tool::Tool& tool, const ToolOrientation& orientation,
+                               const RasterPath& path, double vibration_amplitude_m) {
+  return automatic_budget(tool, orientation, path, vibration_amplitude_m);
+}
 
 Eigen::Matrix3d spindle_to_engagement(const ToolOrientation& o) {
   return (Eigen::AngleAxisd(o.tilt_rad, Eigen::Vector3d::UnitX()) *
@@ -149,6 +163,7 @@ ResolutionRules resolution_rules(const tool::Tool& tool, double axial_depth_m,
       height_budget_m > 0.0 ? height_budget_m : automatic_budget(tool, orientation, path, 0.0);
   const Band band = evaluated_band(tool, axial_depth_m, orientation, budget);
   rules.max_edge_radius_m = max_edge_radius(tool, band);
+  rules.lateral_reach_m = lateral_reach(tool, orientation, band);
   const double cell = std::min(grid.dx(), grid.dy());
   const double v_f = feed_speed(path, tool.teeth());
   // Eq 30: (Ω r_max + v_f) Δt ≤ min(dx, dy), Δt = 2π / (Ω · steps).
@@ -311,6 +326,9 @@ void cut_strip(const Plan& plan, std::vector<double>& z, int column_from, int co
     const double sin_theta = std::hypot(a.x(), a.y()), cos_theta = a.z() < 0.0 ? -a.z() : a.z();
     const double bottom_azimuth = std::atan2(-a.x(), -a.y());  // where the edge is lowest
     const double lag_half = 0.5 * (plan.lag_to - plan.lag_from);
+    // The runout lifts and lowers the ball by up to ρ_v over a revolution;
+    // the budget counts from the lowest position, so a raised ball leaves less.
+    const double runout_lift = rho * std::hypot(q(2, 0), q(2, 1));
     // Steps of this pass whose contact point is within reach of the strip.
     double t_lo = back ? (path.x_end_m - x_to) / plan.v_f : (x_from - path.x_start_m) / plan.v_f;
     double t_hi = back ? (path.x_end_m - x_from) / plan.v_f : (x_to - path.x_start_m) / plan.v_f;
@@ -331,6 +349,7 @@ void cut_strip(const Plan& plan, std::vector<double>& z, int column_from, int co
                                      0.0);
       Eigen::Vector3d centre =
           Eigen::Vector3d(x_cc, y_pass, Ball ? radius : 0.0) + reference_w + q * offset_s;
+      const double budget = plan.budget - runout_lift - (q * offset_s).z();
       if (!plan.vibration->empty())
         centre += q * plan.vibration->at(t);
       Sweep sweep;
@@ -351,7 +370,7 @@ void cut_strip(const Plan& plan, std::vector<double>& z, int column_from, int co
           const double bound =
               radius *
               (1.0 - std::sqrt(cos_theta * cos_theta + c_neg * c_neg * sin_theta * sin_theta));
-          if (bound > plan.budget * (1.0 + 1e-9) + 1e-12)
+          if (bound > budget * (1.0 + 1e-9) + 1e-12)
             continue;
         }
         for (std::size_t m = 0; m < band; ++m) {
@@ -376,7 +395,7 @@ void cut_strip(const Plan& plan, std::vector<double>& z, int column_from, int co
             const double cp = lag == 0.0 ? c0 : std::cos(angle - lag);
             v = {r * sp, r * cp, zt};
           }
-          if (a.dot(v) - lowest > plan.budget)
+          if (a.dot(v) - lowest > budget)
             continue;  // too high above the tool's lowest point to leave the surface
           ++counters.points;
           const Eigen::Vector3d p = centre + q * v;

@@ -154,10 +154,22 @@ struct ResolutionRules {
   int min_steps_per_revolution = 0;  ///< Eq 30 at the grid's min(dx, dy)
   double max_edge_spacing_m = 0.0;   ///< Eq 31: ds ≤ min(dx, dy)
   double max_edge_radius_m = 0.0;    ///< the r_max of Eq 30 used
+  /// Horizontal distance from the contact point within which the evaluated
+  /// edge points lie (without runout and vibration): how far beyond the
+  /// patch the path must run to finish it.
+  double lateral_reach_m = 0.0;
 };
 ResolutionRules resolution_rules(const tool::Tool& tool, double axial_depth_m,
                                  const ToolOrientation& orientation, const RasterPath& path,
                                  const ZMapGrid& grid, double height_budget_m);
+
+/// The automatic height budget of ZMapOptions::height_budget_m.
+double automatic_height_budget(const tool::Tool& tool, const ToolOrientation& orientation,
+                               const RasterPath& path, double vibration_amplitude_m);
+
+/// The automatic height budget of ZMapOptions::height_budget_m.
+double automatic_height_budget(const tool::Tool& tool, const ToolOrientation& orientation,
+                               const RasterPath& path, double vibration_amplitude_m);
 
 /// Height of the tool's lowest point above its ball centre (ball) or tip
 /// centre (flat) in {W} is −R resp. −R sin θ; this returns the {E} position
