@@ -19,7 +19,7 @@ void read_surface(SectionReader& root, Job& job) {
     return;
   SectionReader& r = *section;
   r.allow({"area", "grid", "origin", "stepover", "passes", "first_pass", "pattern", "lead", "tilt",
-           "redundancy", "vibration", "warmup", "steps_per_tooth", "steps_per_revolution",
+           "redundancy", "vibration", "warmup", "entry", "steps_per_tooth", "steps_per_revolution",
            "edge_spacing", "grid_rule"});
   if (!job.tool || !job.process)
     r.fail_here("a surface needs the tool: and process: sections");
@@ -64,9 +64,16 @@ void read_surface(SectionReader& root, Job& job) {
   s.vibration = r.boolean_or("vibration", false);
   s.warmup_s = r.optional_quantity(
       "warmup", field(dimensions::time, 1.0, "s", kNonNegative, Bound{600.0, true}));
+  s.entry_m = r.optional_quantity("entry", length_mm(kNonNegative));
   s.simulation_steps_per_tooth = r.integer_or("steps_per_tooth", 1, 100000, 0);
-  if (!s.vibration && (s.warmup_s || s.simulation_steps_per_tooth > 0))
-    r.fail(s.warmup_s ? "warmup" : "steps_per_tooth",
+  if (s.warmup_s && s.entry_m)
+    r.fail("warmup",
+           "give either warmup (a steady cut) or entry (each pass enters the part), "
+           "not both");
+  if (!s.vibration && (s.warmup_s || s.entry_m || s.simulation_steps_per_tooth > 0))
+    r.fail(s.warmup_s  ? "warmup"
+           : s.entry_m ? "entry"
+                       : "steps_per_tooth",
            "only with vibration: true (they set up the time-domain simulation)");
   s.steps_line = r.line_of("steps_per_revolution");
   s.steps_per_revolution = r.integer_or("steps_per_revolution", 1, 100'000'000, 0);

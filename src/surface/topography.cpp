@@ -182,7 +182,8 @@ Eigen::Vector3d edge_point(const tool::Tool& tool, const ToolOrientation& orient
   const double local = t_s - pass * pass_time;
   const bool back = path.pattern == RasterPattern::zigzag && pass % 2 == 1;
   const double x = back ? path.x_end_m - v_f * local : path.x_start_m + v_f * local;
-  const double spin = path.spindle_rad_s * t_s;
+  const double spin =
+      path.start_angle_rad + path.spindle_rad_s * (path.restart_each_pass ? local : t_s);
   const auto& runout = tool.runout();
   const Eigen::Vector3d offset(runout.offset_m * std::sin(spin + runout.angle_rad),
                                runout.offset_m * std::cos(spin + runout.angle_rad), 0.0);
@@ -344,14 +345,15 @@ void cut_strip(const Plan& plan, std::vector<double>& z, int column_from, int co
       const double t = pass * plan.pass_time + local;
       const double x_cc =
           back ? path.x_end_m - plan.v_f * local : path.x_start_m + plan.v_f * local;
-      const double spin = std::fmod(path.spindle_rad_s * t, kTwoPi);
+      const double spin = std::fmod(
+          path.start_angle_rad + path.spindle_rad_s * (path.restart_each_pass ? local : t), kTwoPi);
       const Eigen::Vector3d offset_s(rho * std::sin(spin + lambda), rho * std::cos(spin + lambda),
                                      0.0);
       Eigen::Vector3d centre =
           Eigen::Vector3d(x_cc, y_pass, Ball ? radius : 0.0) + reference_w + q * offset_s;
       const double budget = plan.budget - runout_lift - (q * offset_s).z();
       if (!plan.vibration->empty())
-        centre += q * plan.vibration->at(t);
+        centre += q * plan.vibration->at(plan.vibration->per_pass ? local : t);
       Sweep sweep;
       sweep.centre_rate =
           q * Eigen::Vector3d(rho * std::cos(spin + lambda), -rho * std::sin(spin + lambda), 0.0);

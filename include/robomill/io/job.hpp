@@ -237,10 +237,13 @@ struct SurfaceSettings {
   double lead_rad = 0.0, tilt_rad = 0.0, redundancy_rad = 0.0;  ///< 001 Eq 5 (deg)
   bool vibration = false;                                       ///< `vibration`: 001 §2.2-2.3
   std::optional<double> warmup_s;                               ///< `warmup` (s) before the patch
-  int simulation_steps_per_tooth = 0;                           ///< `steps_per_tooth`; 0: automatic
-  int steps_per_revolution = 0;  ///< `steps_per_revolution`; 0: Eq 30
-  double edge_spacing_m = 0.0;   ///< `edge_spacing` (mm); 0: Eq 31
-  bool grid_rule = true;         ///< `grid_rule: true`: enforce Eq 29
+  /// `entry` (mm): every pass enters the part this far before the patch
+  /// (the vibration restarts with each pass); none: a steady cut.
+  std::optional<double> entry_m;
+  int simulation_steps_per_tooth = 0;  ///< `steps_per_tooth`; 0: automatic
+  int steps_per_revolution = 0;        ///< `steps_per_revolution`; 0: Eq 30
+  double edge_spacing_m = 0.0;         ///< `edge_spacing` (mm); 0: Eq 31
+  bool grid_rule = true;               ///< `grid_rule: true`: enforce Eq 29
   /// Lines for messages (0: absent).
   int line = 0, grid_line = 0, passes_line = 0, first_pass_line = 0, lead_line = 0, tilt_line = 0,
       steps_line = 0, spacing_line = 0, vibration_line = 0, area_line = 0;

@@ -71,6 +71,11 @@ struct RasterPath {
   double x_start_m = 0.0;
   double x_end_m = 0.0;
   RasterPattern pattern = RasterPattern::one_way;
+  /// Tooth 1's angle ϕ at t = 0 (clockwise from +y, as the simulator's
+  /// start_angle), and whether ϕ starts again with every pass (each pass
+  /// entering the part as the same simulated cut) or runs on.
+  double start_angle_rad = 0.0;
+  bool restart_each_pass = false;
 };
 
 /// The simulated patch: (cells_x + 1) × (cells_y + 1) nodes over
@@ -104,6 +109,9 @@ struct ZMap {
 struct Vibration {
   double step_s = 0.0;
   std::vector<Eigen::Vector3d> displacement_m;
+  /// true: the series starts again with every pass (each pass enters the
+  /// part, as in 001 Figure 6's one-way raster); t counts from the pass start.
+  bool per_pass = false;
   bool empty() const noexcept { return displacement_m.empty(); }
   /// u(t) (zero when empty).
   Eigen::Vector3d at(double t_s) const noexcept;
