@@ -10,6 +10,7 @@
 #include <numbers>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "robomill/core/parallel.hpp"
 
@@ -71,15 +72,36 @@ double lateral_reach(const tool::Tool& tool, const ToolOrientation& orientation,
                                     std::max(band.to - theta, theta - band.from) + 1e-3));
 }
 
+/// Largest horizontal and vertical deviation of the vibration from its mean, in {W}.
+std::pair<double, double> vibration_ranges(const ToolOrientation& orientation,
+                                           const Vibration& vibration) {
+  if (vibration.empty())
+    return {0.0, 0.0};
+  const Eigen::Matrix3d q = spindle_to_engagement(orientation);
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const auto& u : vibration.displacement_m)
+    mean += u;
+  mean /= static_cast<double>(vibration.displacement_m.size());
+  double lateral = 0.0, vertical = 0.0;
+  for (const auto& u : vibration.displacement_m) {
+    const Eigen::Vector3d w = q * (u - mean);
+    lateral = std::max(lateral, std::hypot(w.x(), w.y()));
+    vertical = std::max(vertical, std::abs(w.z()));
+  }
+  return {lateral, vertical};
+}
+
 double automatic_budget(const tool::Tool& tool, const ToolOrientation& orientation,
-                        const RasterPath& path, double vibration_amplitude_m) {
+                        const RasterPath& path, const Vibration& vibration) {
   const double radius = tool.radius_m();
   const double theta = axis_angle(orientation);
+  const auto [lateral, vertical] = vibration_ranges(orientation, vibration);
   const double per_revolution = path.feed_per_tooth_m * tool.teeth();
-  const double kinematic = scallop_height(radius, std::min(path.stepover_m, 2.0 * radius)) +
-                           scallop_height(radius, std::min(per_revolution, 2.0 * radius));
-  return 3.0 * kinematic + 2.0 * tool.runout().offset_m * std::sin(theta) +
-         4.0 * vibration_amplitude_m + 0.5e-6;
+  const double kinematic =
+      scallop_height(radius, std::min(path.stepover_m + 2.0 * lateral, 2.0 * radius)) +
+      scallop_height(radius, std::min(per_revolution + 2.0 * lateral, 2.0 * radius));
+  return 3.0 * kinematic + 2.0 * tool.runout().offset_m * std::sin(theta) + 4.0 * vertical +
+         0.5e-6;
 }
 
 double max_edge_radius(const tool::Tool& tool, const Band& band) {
@@ -91,8 +113,8 @@ double max_edge_radius(const tool::Tool& tool, const Band& band) {
 }  // namespace
 
 double automatic_height_budget(const tool::Tool& tool, const ToolOrientation& orientation,
-                               const RasterPath& path, double vibration_amplitude_m) {
-  return automatic_budget(tool, orientation, path, vibration_amplitude_m);
+                               const RasterPath& path, const Vibration& vibration) {
+  return automatic_budget(tool, orientation, path, vibration);
 }
 
 Eigen::Matrix3d spindle_to_engagement(const ToolOrientation& o) {
@@ -160,7 +182,7 @@ ResolutionRules resolution_rules(const tool::Tool& tool, double axial_depth_m,
   ResolutionRules rules;
   rules.max_cell_m = std::min(path.feed_per_tooth_m, path.stepover_m) / 5.0;
   const double budget =
-      height_budget_m > 0.0 ? height_budget_m : automatic_budget(tool, orientation, path, 0.0);
+      height_budget_m > 0.0 ? height_budget_m : automatic_budget(tool, orientation, path, Vibration{});
   const Band band = evaluated_band(tool, axial_depth_m, orientation, budget);
   rules.max_edge_radius_m = max_edge_radius(tool, band);
   rules.lateral_reach_m = lateral_reach(tool, orientation, band);
@@ -438,7 +460,7 @@ ZMapResult cut_zmap(const tool::Tool& tool, double axial_depth_m,
   const double vibration_amplitude = vibration.amplitude_m();
   plan.budget = options.height_budget_m > 0.0
                     ? options.height_budget_m
-                    : automatic_budget(tool, orientation, path, vibration_amplitude);
+                    : automatic_budget(tool, orientation, path, vibration);
   const Band band = evaluated_band(tool, axial_depth_m, orientation, plan.budget);
   const ResolutionRules rules =
       resolution_rules(tool, axial_depth_m, orientation, path, grid, plan.budget);

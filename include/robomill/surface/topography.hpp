@@ -171,13 +171,12 @@ ResolutionRules resolution_rules(const tool::Tool& tool, double axial_depth_m,
                                  const ToolOrientation& orientation, const RasterPath& path,
                                  const ZMapGrid& grid, double height_budget_m);
 
-/// The automatic height budget of ZMapOptions::height_budget_m.
+/// The automatic height budget of ZMapOptions::height_budget_m: three times
+/// the scallop and once-per-revolution feed-mark heights (their spacings
+/// widened by twice the lateral vibration), plus the runout's lift range,
+/// twice the vertical vibration range, and 0.5 µm.
 double automatic_height_budget(const tool::Tool& tool, const ToolOrientation& orientation,
-                               const RasterPath& path, double vibration_amplitude_m);
-
-/// The automatic height budget of ZMapOptions::height_budget_m.
-double automatic_height_budget(const tool::Tool& tool, const ToolOrientation& orientation,
-                               const RasterPath& path, double vibration_amplitude_m);
+                               const RasterPath& path, const Vibration& vibration);
 
 /// Height of the tool's lowest point above its ball centre (ball) or tip
 /// centre (flat) in {W} is −R resp. −R sin θ; this returns the {E} position
