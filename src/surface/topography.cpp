@@ -100,8 +100,7 @@ double automatic_budget(const tool::Tool& tool, const ToolOrientation& orientati
   const double kinematic =
       scallop_height(radius, std::min(path.stepover_m + 2.0 * lateral, 2.0 * radius)) +
       scallop_height(radius, std::min(per_revolution + 2.0 * lateral, 2.0 * radius));
-  return 3.0 * kinematic + 2.0 * tool.runout().offset_m * std::sin(theta) + 4.0 * vertical +
-         0.5e-6;
+  return 3.0 * kinematic + 2.0 * tool.runout().offset_m * std::sin(theta) + 4.0 * vertical + 0.5e-6;
 }
 
 double max_edge_radius(const tool::Tool& tool, const Band& band) {
@@ -181,8 +180,9 @@ ResolutionRules resolution_rules(const tool::Tool& tool, double axial_depth_m,
                                  const ZMapGrid& grid, double height_budget_m) {
   ResolutionRules rules;
   rules.max_cell_m = std::min(path.feed_per_tooth_m, path.stepover_m) / 5.0;
-  const double budget =
-      height_budget_m > 0.0 ? height_budget_m : automatic_budget(tool, orientation, path, Vibration{});
+  const double budget = height_budget_m > 0.0
+                            ? height_budget_m
+                            : automatic_budget(tool, orientation, path, Vibration{});
   const Band band = evaluated_band(tool, axial_depth_m, orientation, budget);
   rules.max_edge_radius_m = max_edge_radius(tool, band);
   rules.lateral_reach_m = lateral_reach(tool, orientation, band);
@@ -397,7 +397,45 @@ void cut_strip(const Plan& plan, std::vector<double>& z, int column_from, int co
           if (bound > budget * (1.0 + 1e-9) + 1e-12)
             continue;
         }
-        for (std::size_t m = 0; m < band; ++m) {
+        // A flat end's bottom edge is the segment centre + r d, r in [0, R]:
+        // only the radii whose point falls inside the strip are visited.
+        std::size_t first = 0, skip_from = 0, skip_to = 0;
+        if constexpr (!Ball) {
+          const Eigen::Vector3d d = q * Eigen::Vector3d(s0, c0, 0.0);
+          double r_lo = 0.0, r_hi = radius;
+          const double lo[2] = {x_from + plan.reach - plan.cell, y_from + plan.reach - plan.cell};
+          const double hi[2] = {x_to - plan.reach + plan.cell, y_to - plan.reach + plan.cell};
+          for (int axis_index = 0; axis_index < 2; ++axis_index) {
+            const double c = centre(axis_index), dd = d(axis_index);
+            if (std::abs(dd) < 1e-15) {
+              if (c < lo[axis_index] || c > hi[axis_index])
+                r_hi = -1.0;
+              continue;
+            }
+            double a0 = (lo[axis_index] - c) / dd, a1 = (hi[axis_index] - c) / dd;
+            if (a0 > a1)
+              std::swap(a0, a1);
+            r_lo = std::max(r_lo, a0);
+            r_hi = std::min(r_hi, a1);
+          }
+          const double step = radius / static_cast<double>(plan.flat_bottom - 1);
+          if (r_hi < r_lo) {
+            skip_from = 0;
+            skip_to = plan.flat_bottom;
+          } else {
+            skip_from = static_cast<std::size_t>(
+                std::min<double>(plan.flat_bottom, std::max(0.0, std::floor(r_hi / step) + 1.0)));
+            skip_to = plan.flat_bottom;
+            first = static_cast<std::size_t>(std::max(0.0, std::ceil(r_lo / step)));
+          }
+        }
+        for (std::size_t m = first; m < band; ++m) {
+          if constexpr (!Ball) {
+            if (m >= skip_from && m < skip_to) {
+              m = skip_to - 1;
+              continue;
+            }
+          }
           Eigen::Vector3d v;
           if constexpr (Ball) {
             // φ = angle − ψ(κ): sin and cos by the difference formulas.

@@ -246,3 +246,36 @@ TEST(SurfaceRoughness, ProfileParametersOfASineAndARamp) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(SurfaceZMap, VerticalFlatEndLeavesThePlane) {
+  tool::ToolSpec spec;
+  spec.type = tool::ToolType::flat;
+  spec.diameter_m = 6e-3;
+  spec.teeth = 3;
+  spec.helix_rad = 30.0 * kPi / 180.0;
+  spec.overhang_m = 30e-3;
+  const tool::Tool cutter(spec);
+  const auto path = raster(0.2e-3, 2e-3, 1, 0.5e-3, -3.1e-3, 4.1e-3);
+  const auto g = grid(1e-3, 1e-3, 25, 25);
+  const auto result = surface::cut_zmap(cutter, 0.5e-3, {}, path, g, {}, {});
+  for (double z : result.map.z_m)
+    ASSERT_NEAR(z, 0.0, 1e-12);
+}
+
+TEST(SurfaceZMap, ZigzagLeavesTheSameScallops) {
+  const tool::Tool cutter = ball_tool();
+  auto path = raster(0.05e-3, 0.5e-3, 5, -0.5e-3, -1e-3, 2e-3);
+  const auto g = grid(1e-3, 1e-3, 100, 100);
+  const auto one_way =
+      surface::roughness(surface::cut_zmap(cutter, 0.5e-3, {}, path, g, {}, {}).map);
+  path.pattern = surface::RasterPattern::zigzag;
+  const auto zigzag =
+      surface::roughness(surface::cut_zmap(cutter, 0.5e-3, {}, path, g, {}, {}).map);
+  const double expected = surface::scallop_height(4e-3, 0.5e-3);
+  EXPECT_NEAR(zigzag.max_residual_m, expected, 0.02 * expected);
+  EXPECT_NEAR(zigzag.stepover.ra_m, one_way.stepover.ra_m, 0.02 * one_way.stepover.ra_m);
+}
+
+}  // namespace
