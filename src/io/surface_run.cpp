@@ -270,8 +270,7 @@ SurfaceRun run_surface_job(const Job& job, int threads) {
   const surface::Vibration& u = vibration ? vibration->vibration : none;
 
   // 001 Eq 30 with the band the run evaluates.
-  const double budget =
-      surface::automatic_height_budget(cutter, orientation, path, u);
+  const double budget = surface::automatic_height_budget(cutter, orientation, path, u);
   const surface::ResolutionRules run_rules =
       surface::resolution_rules(cutter, ap, orientation, path, grid, budget);
   if (s.steps_per_revolution > 0 && s.steps_per_revolution < run_rules.min_steps_per_revolution)
