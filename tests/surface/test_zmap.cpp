@@ -194,12 +194,46 @@ TEST(SurfaceZMap, VibrationRaisesRoughnessAndBreaksThePeriodicity) {
                                           0.5e-6 * std::sin(2 * kPi * 23.0 * t + 1.0),
                                           1.5e-6 * std::sin(2 * kPi * 18.0 * t + 0.3));
   }
-  const auto still = surface::roughness(surface::cut_zmap(cutter, 0.5e-3, o, path, g, {}, {}).map);
-  const auto shaken =
-      surface::roughness(surface::cut_zmap(cutter, 0.5e-3, o, path, g, vibration, {}).map);
+  const auto still_map = surface::cut_zmap(cutter, 0.5e-3, o, path, g, {}, {}).map;
+  const auto shaken_map = surface::cut_zmap(cutter, 0.5e-3, o, path, g, vibration, {}).map;
+  const auto still = surface::roughness(still_map);
+  const auto shaken = surface::roughness(shaken_map);
   EXPECT_GT(shaken.sa_m, 2.0 * still.sa_m);
   EXPECT_GT(shaken.stepover.ra_m, still.stepover.ra_m);
   EXPECT_GT(shaken.max_residual_m, still.max_residual_m);
+  // Periodicity along the feed: the share of the feed line's variance at
+  // the harmonics of the feed per revolution (0.05 mm = 10 cells, 20
+  // periods over the 200 cells), averaged over the lines.
+  auto harmonic_share = [](const surface::ZMap& map) {
+    double share = 0.0;
+    for (int j = 0; j < map.grid.nodes_y(); ++j) {
+      auto line = surface::feed_line(map, j);
+      line.pop_back();  // 200 samples, whole periods
+      double mean = 0.0;
+      for (double z : line)
+        mean += z / 200.0;
+      for (double& z : line)
+        z -= mean;
+      double total = 0.0, harmonic = 0.0;
+      for (int k = 1; k <= 100; ++k) {
+        const double a = amplitude_at(line, 200, k);
+        total += a * a;
+        if (k % 20 == 0)
+          harmonic += a * a;
+      }
+      share += (total > 0.0 ? harmonic / total : 1.0) / map.grid.nodes_y();
+    }
+    return share;
+  };
+  const double periodic_still = harmonic_share(still_map);
+  const double periodic_shaken = harmonic_share(shaken_map);
+  EXPECT_GT(periodic_still, 0.9);
+  EXPECT_LT(periodic_shaken, 0.5 * periodic_still);
+  std::printf(
+      "[surface] vibration: Sa %.4f -> %.4f um, max residual %.4f -> %.4f um, share of "
+      "the feed lines at the per-revolution harmonics %.3f -> %.3f\n",
+      still.sa_m * 1e6, shaken.sa_m * 1e6, still.max_residual_m * 1e6, shaken.max_residual_m * 1e6,
+      periodic_still, periodic_shaken);
 }
 
 TEST(SurfaceZMap, ResolutionRulesFollowEq29And30) {
