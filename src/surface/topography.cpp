@@ -321,7 +321,7 @@ inline void lower(const Plan& plan, std::vector<double>& z, int column_from, int
 /// Cuts every pass into the columns [column_from, column_to) of the grid.
 template <bool Ball>
 void cut_strip(const Plan& plan, std::vector<double>& z, int column_from, int column_to,
-               Counters& counters) {
+               int pass_from, int pass_to, Counters& counters) {
   const ZMapGrid& g = *plan.grid;
   const RasterPath& path = *plan.path;
   const tool::Tool& tool = *plan.tool;
@@ -332,7 +332,7 @@ void cut_strip(const Plan& plan, std::vector<double>& z, int column_from, int co
   const double rho = tool.runout().offset_m, lambda = tool.runout().angle_rad;
   const std::size_t band = Ball ? plan.sin_kappa.size() : plan.flat_r.size();
   const double radius = plan.radius;
-  for (int pass = 0; pass < path.passes; ++pass) {
+  for (int pass = pass_from; pass < pass_to; ++pass) {
     const double y_pass = path.first_pass_y_m + pass * path.stepover_m;
     if (y_pass < y_from || y_pass > y_to)
       continue;
@@ -561,20 +561,56 @@ ZMapResult cut_zmap(const tool::Tool& tool, double axial_depth_m,
   result.map.grid = grid;
   result.map.z_m.assign(grid.node_count(), axial_depth_m);
 
-  // Strips of columns, one per worker, no wider overlap than their own width.
+  // Parallel without races, two ways. When a private grid per worker is
+  // affordable (≤ 256 MB in all), the workers share out the passes, each
+  // cutting its passes into its own grid, and the grids are merged by min
+  // (exact: the Z-map is a min over edge points, in any order). Otherwise
+  // the grid's columns are split into strips, each evaluating the time steps
+  // within reach of its columns and writing only them; strips are no
+  // narrower than twice the reach, so no point is evaluated more than ~twice.
   const int threads = core::resolve_thread_count(options.threads);
-  const double width_limit = std::max(1.0, grid.length_x_m / (2.0 * plan.reach));
-  const int strips =
-      std::clamp(static_cast<int>(std::min<double>(threads, width_limit)), 1, grid.nodes_x());
-  std::vector<Counters> counters(static_cast<std::size_t>(strips));
-  core::parallel_for(static_cast<std::size_t>(strips), threads, [&](std::size_t s) {
-    const int from = static_cast<int>(grid.nodes_x() * s / strips);
-    const int to = static_cast<int>(grid.nodes_x() * (s + 1) / strips);
+  const int workers_by_pass = std::min(threads, path.passes);
+  const double private_bytes =
+      static_cast<double>(grid.node_count()) * sizeof(double) * (workers_by_pass - 1);
+  auto cut = [&](std::vector<double>& z, int from, int to, int pass_from, int pass_to,
+                 Counters& c) {
     if (plan.ball)
-      cut_strip<true>(plan, result.map.z_m, from, to, counters[s]);
+      cut_strip<true>(plan, z, from, to, pass_from, pass_to, c);
     else
-      cut_strip<false>(plan, result.map.z_m, from, to, counters[s]);
-  });
+      cut_strip<false>(plan, z, from, to, pass_from, pass_to, c);
+  };
+  std::vector<Counters> counters;
+  if (workers_by_pass > 1 && private_bytes <= options.private_grid_bytes) {
+    const int workers = workers_by_pass;
+    counters.resize(static_cast<std::size_t>(workers));
+    std::vector<std::vector<double>> own(static_cast<std::size_t>(workers - 1));
+    core::parallel_for(static_cast<std::size_t>(workers), threads, [&](std::size_t w) {
+      std::vector<double>& z = w == 0 ? result.map.z_m : own[w - 1];
+      if (w > 0)
+        z.assign(grid.node_count(), axial_depth_m);
+      const int from = static_cast<int>(path.passes * w / workers);
+      const int to = static_cast<int>(path.passes * (w + 1) / workers);
+      cut(z, 0, grid.nodes_x(), from, to, counters[w]);
+    });
+    const std::size_t nodes = grid.node_count();
+    const std::size_t blocks = static_cast<std::size_t>(threads);
+    core::parallel_for(blocks, threads, [&](std::size_t b) {
+      const std::size_t from = nodes * b / blocks, to = nodes * (b + 1) / blocks;
+      for (const std::vector<double>& z : own)
+        for (std::size_t n = from; n < to; ++n)
+          result.map.z_m[n] = std::min(result.map.z_m[n], z[n]);
+    });
+  } else {
+    const double width_limit = std::max(1.0, grid.length_x_m / (2.0 * plan.reach));
+    const int strips =
+        std::clamp(static_cast<int>(std::min<double>(threads, width_limit)), 1, grid.nodes_x());
+    counters.resize(static_cast<std::size_t>(strips));
+    core::parallel_for(static_cast<std::size_t>(strips), threads, [&](std::size_t s) {
+      const int from = static_cast<int>(grid.nodes_x() * s / strips);
+      const int to = static_cast<int>(grid.nodes_x() * (s + 1) / strips);
+      cut(result.map.z_m, from, to, 0, path.passes, counters[s]);
+    });
+  }
 
   ZMapStats& stats = result.stats;
   stats.steps_per_revolution = steps;

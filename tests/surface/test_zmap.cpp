@@ -171,12 +171,16 @@ TEST(SurfaceZMap, ThreadCountDoesNotChangeTheSurface) {
   o.lead_rad = 10.0 * kPi / 180.0;
   const auto path = raster(0.025e-3, 0.1e-3, 14, -0.3e-3, -0.8e-3, 1.3e-3);
   const auto g = grid(0.5e-3, 0.5e-3, 100, 100);
-  surface::ZMapOptions one, four;
+  surface::ZMapOptions one, four, strips;
   one.threads = 1;
-  four.threads = 4;
+  four.threads = 4;  // passes shared out, private grids merged by min
+  strips.threads = 4;
+  strips.private_grid_bytes = 0.0;  // column strips
   const auto a = surface::cut_zmap(cutter, 0.5e-3, o, path, g, {}, one);
   const auto b = surface::cut_zmap(cutter, 0.5e-3, o, path, g, {}, four);
+  const auto c = surface::cut_zmap(cutter, 0.5e-3, o, path, g, {}, strips);
   EXPECT_EQ(a.map.z_m, b.map.z_m);
+  EXPECT_EQ(a.map.z_m, c.map.z_m);
 }
 
 TEST(SurfaceZMap, VibrationRaisesRoughnessAndBreaksThePeriodicity) {

@@ -133,6 +133,9 @@ struct ZMapOptions {
   /// time (tests/surface checks the result does not change).
   double height_budget_m = 0.0;
   int threads = 0;  ///< 0: hardware concurrency
+  /// Memory the workers may take for private grids (passes shared out,
+  /// grids merged by min); above it they split the grid into column strips.
+  double private_grid_bytes = 256.0 * 1024 * 1024;
 };
 
 /// What a Z-map run did, for summaries and checks.
