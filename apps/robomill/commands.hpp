@@ -87,6 +87,7 @@ CommandResult compute_robot(const io::Job& job, int threads);
 CommandResult compute_deflection(io::Job job, int threads);
 CommandResult compute_optimize(const io::Job& job, int threads);
 CommandResult compute_advise(const io::Job& job, int threads);
+CommandResult compute_surface(const io::Job& job, int threads);
 
 int run_forces(const JobCommandOptions& options);
 int run_stability(const JobCommandOptions& options);
@@ -96,6 +97,7 @@ int run_deflection(const JobCommandOptions& options);
 int run_optimize(const JobCommandOptions& options);
 int run_advise(const JobCommandOptions& options);
 int run_simulate(const JobCommandOptions& options);
+int run_surface(const JobCommandOptions& options);
 
 struct IdentifyOptions {
   std::filesystem::path data_file;

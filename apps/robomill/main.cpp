@@ -100,6 +100,14 @@ int run(int argc, char** argv, int rank, int ranks) {
       "timeseries.csv, spectrum.csv, summary.json",
       simulate_options);
 
+  robomill::app::JobCommandOptions surface_options;
+  CLI::App* surface_command = add_job_command(
+      app, "surface",
+      "machined surface of a ball-end raster by a Z-map (001): runout, lead/tilt/redundancy, "
+      "posture-dependent vibration; Ra, Rq, Sa, Sq, Sz → surface.csv, profiles.csv, surface.bmp, "
+      "summary.json",
+      surface_options);
+
   robomill::app::JobCommandOptions advise_options;
   CLI::App* advise = add_job_command(
       app, "advise",
@@ -243,6 +251,8 @@ int run(int argc, char** argv, int rank, int ranks) {
       return robomill::app::run_simulate(simulate_options);
     if (advise->parsed())
       return robomill::app::run_advise(advise_options);
+    if (surface_command->parsed())
+      return robomill::app::run_surface(surface_options);
     if (identify_stiffness->parsed())
       return robomill::app::run_identify_stiffness(stiffness_options);
     if (frf->parsed())

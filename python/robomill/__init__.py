@@ -47,6 +47,7 @@ __all__ = [
     "robot",
     "simulate",
     "stability",
+    "surface",
 ]
 __version__ = "0.1.0"
 
@@ -231,6 +232,12 @@ def advise(job, threads: int = 0, out: Optional[PathLike] = None) -> dict:
     """``robomill advise``: cutting-parameter advice → "advice", "advice_map"
     (+ "redundancy")."""
     return _result(_robomill.advise(_job(job), _threads(threads), _out(out)))
+
+
+def surface(job, threads: int = 0, out: Optional[PathLike] = None) -> dict:
+    """``robomill surface``: the Z-map surface (001) → "surface" (x_mm, y_mm, z_um
+    nodes), "profiles", "surface.bmp" (bytes) and the roughness in "summary"."""
+    return _result(_robomill.surface(_job(job), _threads(threads), _out(out)))
 
 
 def frf(job, from_: str = "", to: str = "", step: str = "", spacing: str = "linear",

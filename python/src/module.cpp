@@ -238,6 +238,7 @@ PYBIND11_MODULE(_robomill, m) {
   job_command("robot", robomill::app::compute_robot);
   job_command("optimize", robomill::app::compute_optimize);
   job_command("advise", robomill::app::compute_advise);
+  job_command("surface", robomill::app::compute_surface);
   m.def(
       "deflection",
       [](const JobHandle& handle, int threads, const Out& out) {

@@ -34,6 +34,8 @@ CASES = [
     ("deflection", robomill.deflection, "000_kr600_multipoint.yaml", []),
     ("optimize", robomill.optimize, "004_kr300_pose_optimization.yaml", OPTIMIZE_FAST),
     ("advise", robomill.advise, "003_kr270_cutting_advice.yaml", ADVISE_FAST),
+    ("surface", robomill.surface, "001_case_5_surface.yaml",
+     ["surface.grid=[100, 100]", "surface.grid_rule=false"]),
 ]
 
 

@@ -25,6 +25,7 @@
 #include "job_parser_deflection.hpp"
 #include "job_parser_planning.hpp"
 #include "job_parser_simulation.hpp"
+#include "job_parser_surface.hpp"
 #include "quantity_fields.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/io/job.hpp"
@@ -1869,7 +1870,7 @@ Job read_job(const YAML::Node& root_node, const std::filesystem::path& source,
              const Provenance& provenance) {
   const int root_line = provenance.line(root_node, "") > 0 ? provenance.line(root_node, "") : 1;
   SectionReader root(root_node, "", root_line, provenance);
-  root.allow_schema("job", {"surface"}, "section not supported by this version of robomill");
+  root.allow_schema("job");
   Job job;
   job.source = source;
   job.name = root.optional_text("name").value_or("");
@@ -1887,6 +1888,7 @@ Job read_job(const YAML::Node& root_node, const std::filesystem::path& source,
   detail::read_simulation(root, job);  // simulation (job_parser_simulation.cpp)
   detail::read_deflection(root, job);  // 000 §2-4 (job_parser_deflection.cpp)
   detail::read_atlas(root, job);       // issue 11 (job_parser_atlas.cpp)
+  detail::read_surface(root, job);     // 001 §2.4 (job_parser_surface.cpp)
   job.output = read_output(root);
   root.finish();
   return job;

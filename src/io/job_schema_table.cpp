@@ -11,7 +11,7 @@ using K = Kind;
 
 // clang-format off
 constexpr Section kSections[] = {
-  {"job", "The top level of a job file: its sections. Sections are optional unless the command needs them (`forces` needs `tool`, `cutting` and `process`). `surface` is recognised but rejected: not supported by this version."},
+  {"job", "The top level of a job file: its sections. Sections are optional unless the command needs them (`forces` needs `tool`, `cutting` and `process`)."},
   {"tool", "The cutter (001 Eq 1-4)."},
   {"tool.runout", "Parallel-axis runout of the cutter (001 Eq 4)."},
   {"cutting[law=linear]", "`law: linear` (the default; 000 Eq 13, 001 Eq 12): shear and edge coefficients. Each law accepts only its own keys."},
@@ -54,6 +54,7 @@ constexpr Section kSections[] = {
   {"advise.speeds", "The spindle range scanned."},
   {"advise.redundancy", "The redundancy-angle study: per path point (or at `robot.posture`) the rotation ψ about the tool axis maximizing the minimum stable depth; needs a 6-joint robot with `links`."},
   {"advise.redundancy.angles", "The angles tried."},
+  {"surface", "The Z-map surface of `robomill surface` (001 §2.4; docs/surface.md). Needs `tool` and `process` (and `dynamics` with `vibration: true`). The rules that need the tool and the grid together (001 Eq 29-31, coverage, shank clearance) are checked by the command, which names the value that would work."},
   {"simulation", "The time-domain simulation of `robomill simulate` (002 §2.5-3.4; docs/simulation.md). Needs `tool`, `cutting`, `process`. Give exactly one of `duration` and `revolutions`."},
   {"simulation.fixation", "002 Eq 32-33's M, K, C for model 1dof/2dof/3dof: each a value (1-DOF), n values (the diagonal) or n² values (row-major). Give one of `damping` and `damping_ratio`."},
   {"simulation.workpiece", "A part with a straight border perpendicular to the feed (without it the cutter is in the steady cut from t = 0)."},
@@ -86,6 +87,7 @@ constexpr Field kFields[] = {
   {"job", "deflection", K::map, "", "", "", "", "Force-induced deformation: see `deflection`."},
   {"job", "simulation", K::map, "", "", "", "by simulate", "Time-domain simulation: see `simulation`."},
   {"job", "atlas", K::map, "", "", "", "by atlas", "Workspace atlas: see `atlas`."},
+  {"job", "surface", K::map, "", "", "", "by surface", "Surface topography: see `surface`."},
 
   // --- tool
   {"tool", "type", K::choice, "", "flat, ball", "flat", "", "Cylindrical helical end mill or ball-end mill (001 Eq 1-3)."},
@@ -306,6 +308,24 @@ constexpr Field kFields[] = {
   {"advise.redundancy.angles", "to", K::quantity, "deg", "> from when count > 1", "", "yes", "Last angle."},
   {"advise.redundancy.angles", "count", K::integer, "", "1 … 3600", "", "yes", "Number of angles."},
 
+  // --- surface
+  {"surface", "area", K::quantities, "mm", "two lengths > 0", "", "yes", "[Lx, Ly] of the patch."},
+  {"surface", "grid", K::integers, "", "two counts 1 … 20 000, ≤ 1e8 nodes", "", "yes", "[nx, ny] cells; (nx + 1)(ny + 1) nodes (001 Eq 28). 001 Eq 29 needs max(dx, dy) ≤ min(fz, stepover)/5."},
+  {"surface", "grid_rule", K::boolean, "", "", "true", "", "false accepts a grid coarser than 001 Eq 29 (the paper's own 100 × 100)."},
+  {"surface", "origin", K::quantities, "mm", "two lengths", "[0, 0]", "", "Lower-left corner of the patch in the workpiece frame."},
+  {"surface", "stepover", K::quantity, "mm", "> 0, ≤ the tool diameter", "process.ae", "", "Path interval between passes."},
+  {"surface", "passes", K::integer, "", "1 … 10⁶", "enough to cover the patch", "", "Number of passes; they must cover the patch."},
+  {"surface", "first_pass", K::quantity, "mm", "", "covers the patch", "", "y of the first pass."},
+  {"surface", "pattern", K::choice, "", "one_way, zigzag", "one_way", "", "Raster pattern."},
+  {"surface", "lead", K::quantity, "deg", "−89 … 89", "0", "", "001 Eq 5's lead angle β; the shank must clear the stock."},
+  {"surface", "tilt", K::quantity, "deg", "−89 … 89", "0", "", "001 Eq 5's tilt angle α; the shank must clear the stock."},
+  {"surface", "redundancy", K::quantity, "deg", "", "0", "", "001 Eq 5's redundancy angle γ about the tool axis."},
+  {"surface", "vibration", K::boolean, "", "", "false", "", "Add the tool vibration of the time-domain simulation at the job's dynamics (001 Eq 23-28)."},
+  {"surface", "warmup", K::quantity, "s", "0 … 600 s", "3 decay times", "only with vibration, not with entry", "Simulated time before the first pass (a steady cut)."},
+  {"surface", "entry", K::quantity, "mm", "≥ 0", "none", "only with vibration, not with warmup", "Every pass enters the part this far before the patch (the vibration restarts per pass)."},
+  {"surface", "steps_per_tooth", K::integer, "", "1 … 100 000", "automatic (≥ 8 per period of the highest mode)", "only with vibration", "The vibration simulation's step."},
+  {"surface", "steps_per_revolution", K::integer, "", "1 … 10⁸", "001 Eq 30", "", "Z-map time steps per revolution."},
+  {"surface", "edge_spacing", K::quantity, "mm", "> 0", "half a cell", "", "001 Eq 31's spacing ds of the discrete edge points."},
   // --- simulation
   {"simulation", "model", K::choice, "", "modes, rigid, 1dof, 2dof, 3dof, reduced6d", "modes", "", "The structure: the job's dynamics, rigid (002 Case A), 002 Eq 32 (x), Eq 33 (x, y), x-y-z, or the reduced robot model of 002 Eq 23."},
   {"simulation", "duration", K::quantity, "s", "0 < t ≤ 3600 s", "", "one of duration, revolutions", "Simulated time."},

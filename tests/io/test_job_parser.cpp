@@ -358,7 +358,7 @@ TEST(JobValidation, UnknownKeys) {
                "stability, experiments, robot, output, ");
   expect_error("name: a\nprocesss:\n  ap: 1\n", "processs", 2, "(did you mean 'process'?)");
   expect_error("surface:\n  grid: [10, 10]\n", "surface", 1,
-               "section not supported by this version of robomill");
+               "a surface needs the tool: and process: sections");
   expect_error("robot:\n  dh: []\n", "robot.dh", 2, "one row {a, alpha, d, theta} per joint");
   expect_error("dynamics:\n  postures: []\n", "dynamics.postures", 2,
                "must list at least one measured posture");

@@ -224,6 +224,33 @@ struct AdviseSettings {
   std::optional<Redundancy> redundancy;
 };
 
+/// `surface:` — the Z-map topography of `robomill surface` (001 §2.4;
+/// docs/surface.md). SI units; the checks that need the tool and the grid
+/// together (001 Eq 29-31, coverage, shank) are made by the command, which
+/// names these fields with the lines kept here.
+struct SurfaceSettings {
+  double area_x_m = 0.0, area_y_m = 0.0;      ///< `area: [Lx, Ly]` (mm)
+  int cells_x = 0, cells_y = 0;               ///< `grid: [nx, ny]` cells
+  double origin_x_m = 0.0, origin_y_m = 0.0;  ///< `origin: [x0, y0]` (mm)
+  double stepover_m = 0.0;                    ///< `stepover` (mm), default process.ae
+  int passes = 0;                             ///< `passes`; 0: enough to cover the area
+  std::optional<double> first_pass_y_m;       ///< `first_pass` (mm): y of pass 1
+  bool zigzag = false;                        ///< `pattern: one_way | zigzag`
+  double lead_rad = 0.0, tilt_rad = 0.0, redundancy_rad = 0.0;  ///< 001 Eq 5 (deg)
+  bool vibration = false;                                       ///< `vibration`: 001 §2.2-2.3
+  std::optional<double> warmup_s;                               ///< `warmup` (s) before the patch
+  /// `entry` (mm): every pass enters the part this far before the patch
+  /// (the vibration restarts with each pass); none: a steady cut.
+  std::optional<double> entry_m;
+  int simulation_steps_per_tooth = 0;  ///< `steps_per_tooth`; 0: automatic
+  int steps_per_revolution = 0;        ///< `steps_per_revolution`; 0: Eq 30
+  double edge_spacing_m = 0.0;         ///< `edge_spacing` (mm); 0: Eq 31
+  bool grid_rule = true;               ///< `grid_rule: true`: enforce Eq 29
+  /// Lines for messages (0: absent).
+  int line = 0, grid_line = 0, passes_line = 0, first_pass_line = 0, lead_line = 0, tilt_line = 0,
+      steps_line = 0, spacing_line = 0, vibration_line = 0, area_line = 0;
+};
+
 struct OutputSettings {
   std::string dir;  ///< empty: the command's default (out/<command>)
   bool csv = true, json = true, html = true;
@@ -264,6 +291,7 @@ struct Job {
   std::optional<AdviseSettings> advise;          ///< `advise:`
   std::optional<SimulationSettings> simulation;  ///< `simulation:`
   std::optional<atlas::AtlasSpec> atlas;         ///< `atlas:` (docs/atlas.md)
+  std::optional<SurfaceSettings> surface;        ///< `surface:` (docs/surface.md)
   OutputSettings output;
 
   /// Resolves a path written in the job relative to the job file's folder.

@@ -1,0 +1,144 @@
+// Paper 001 (surface topography in robotic ball-end milling): the nine
+// Table 2 cases through `robomill surface`'s computation, Ra and Rq next to
+// Table 3, and the posture dependence of areas A-C (001 Eq 16-18 via the
+// KR270-class posture library). Every assumption is in the example files
+// and docs/surface.md.
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <tuple>
+
+#include "robomill/io/job.hpp"
+#include "robomill/io/surface_run.hpp"
+#include "support/validation_record.hpp"
+
+namespace {
+
+using namespace robomill;
+
+std::string read(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+std::string example(int c) {
+  return std::string(ROBOMILL_SOURCE_DIR) + "/examples/001_case_" + std::to_string(c) +
+         "_surface.yaml";
+}
+
+// 001 Table 3, simulation with vibration: area -> (Ra, Rq) um; A-C case 5, D-F case 7.
+struct Table3 {
+  const char* area;
+  int case_number;
+  double ra_um, rq_um;
+};
+constexpr Table3 kTable3[] = {{"A", 5, 0.878, 1.103}, {"B", 5, 0.976, 1.407},
+                              {"C", 5, 0.914, 1.357}, {"D", 7, 0.835, 1.187},
+                              {"E", 7, 1.066, 1.527}, {"F", 7, 0.938, 1.465}};
+
+TEST(Paper001Surface, Table2CasesNextToTable3) {
+  for (int c = 1; c <= 9; ++c) {
+    // The paper's own 100 x 100 grid (which breaks its Eq 29, see the
+    // examples) and the example's Eq 29 grid for the cases Table 3 reports.
+    const io::Job paper =
+        io::load_job(example(c), {{"surface.grid", "[100, 100]"}, {"surface.grid_rule", "false"}});
+    const io::SurfaceRun coarse = io::run_surface_job(paper, 0);
+    const double ra = coarse.roughness.stepover.ra_m * 1e6,
+                 rq = coarse.roughness.stepover.rq_m * 1e6;
+    EXPECT_GT(ra, 0.0);
+    EXPECT_GE(rq, ra);
+    // Kinematics alone give the scallop of the 0.1 mm path interval (0.31 um
+    // high, Ra ~0.08 um); the surface may not be smoother than that.
+    EXPECT_GT(ra, 0.05);
+    EXPECT_LT(ra, 3.0);
+    std::printf(
+        "[validation] 001 case %d (100x100 grid, vibration): Ra %.3f um, Rq %.3f um, Sa %.3f "
+        "um, max residual %.3f um\n",
+        c, ra, rq, coarse.roughness.sa_m * 1e6, coarse.roughness.max_residual_m * 1e6);
+    if (c == 5 || c == 7) {
+      const io::SurfaceRun fine = io::run_surface_job(io::load_job(example(c)), 0);
+      const double fra = fine.roughness.stepover.ra_m * 1e6;
+      const double frq = fine.roughness.stepover.rq_m * 1e6;
+      for (const Table3& t : kTable3)
+        if (t.case_number == c)
+          std::printf(
+              "[validation] 001 Table 3 area %s (case %d): paper Ra %.3f um, Rq %.3f um; "
+              "ours (Eq 29 grid) Ra %.3f um, Rq %.3f um = %.2fx, %.2fx the paper; "
+              "tolerance 'order of magnitude' (factor 3): %s\n",
+              t.area, c, t.ra_um, t.rq_um, fra, frq, fra / t.ra_um, frq / t.rq_um,
+              fra > t.ra_um / 3 && fra < 3 * t.ra_um ? "within" : "NOT within");
+      // Into the validation report, not asserted: our surfaces are the
+      // kinematic scallop plus a stable cut's small vibration (docs/surface.md).
+      for (const Table3& t : kTable3) {
+        if (t.case_number != c)
+          continue;
+        const std::string item =
+            "Tab. 3, area " + std::string(t.area) + " (case " + std::to_string(c) + ")";
+        const std::string assumptions =
+            "examples/001_case_" + std::to_string(c) +
+            "_surface.yaml: Eq 29 grid, vibration of its assumed modes in a steady stable cut, "
+            "runout angle 0, no axial runout; not asserted (docs/surface.md)";
+        for (const auto& [quantity, paper_um, ours_um] :
+             {std::tuple{"Ra across the passes", t.ra_um, fra},
+              std::tuple{"Rq across the passes", t.rq_um, frq}}) {
+          const double ratio = ours_um / paper_um;
+          test::record_validation({"001", item, quantity, "um", test::sig4(paper_um),
+                                   test::sig4(ours_um), test::labelled("x", ratio), "x1/3 ... x3",
+                                   ratio > 1.0 / 3.0 && ratio < 3.0, assumptions});
+        }
+      }
+    }
+  }
+}
+
+/// Case 5 with the posture library's dynamics interpolated (001 Eq 16-18)
+/// at three postures moving away from the robot base along x.
+io::Job area_job(const char* at) {
+  const std::string case5 = read(example(5));
+  const std::string library =
+      read(std::string(ROBOMILL_SOURCE_DIR) + "/examples/001_kr270_posture_library.yaml");
+  const std::size_t d0 = case5.find("\ndynamics:") + 1, d1 = case5.find("\nsurface:") + 1;
+  const std::size_t l0 = library.find("\ndynamics:") + 1, l1 = library.find("# The robot");
+  std::string dynamics = library.substr(l0, l1 - l0);
+  dynamics.insert(std::string("dynamics:\n").size(), std::string("  at: ") + at + "\n");
+  const std::string text = case5.substr(0, d0) + dynamics + case5.substr(d1);
+  return io::parse_job(text, example(5),
+                       {{"surface.grid", "[100, 100]"}, {"surface.grid_rule", "false"}});
+}
+
+TEST(Paper001Surface, PostureDependentVibration) {
+  const char* postures[] = {"[0, 17.377, 26.257, 0, 46.366, 0]",   // tool at x = 1650 mm
+                            "[0, 25.995, 13.011, 0, 50.994, 0]",   // 1900 mm
+                            "[0, 34.815, -1.862, 0, 57.047, 0]"};  // 2150 mm
+  const char* names[] = {"A (1650 mm)", "B (1900 mm)", "C (2150 mm)"};
+  io::Job still_job = area_job(postures[0]);
+  still_job.surface->vibration = false;
+  const io::SurfaceRun still = io::run_surface_job(still_job, 0);
+  std::printf(
+      "[validation] 001 case 5 without vibration: Ra %.3f um, Sa %.3f um, max residual "
+      "%.3f um\n",
+      still.roughness.stepover.ra_m * 1e6, still.roughness.sa_m * 1e6,
+      still.roughness.max_residual_m * 1e6);
+  for (int k = 0; k < 3; ++k) {
+    const io::SurfaceRun run = io::run_surface_job(area_job(postures[k]), 0);
+    // 001 §3.3 / Figures 16-17: vibration raises the roughness.
+    EXPECT_GT(run.roughness.sa_m, still.roughness.sa_m);
+    EXPECT_GT(run.roughness.max_residual_m, still.roughness.max_residual_m);
+    std::printf(
+        "[validation] 001 case 5 area %s, IDW dynamics (first mode %.2f Hz), vibration "
+        "p-p x %.2f y %.2f um: Ra %.3f um, Sa %.3f um, max residual %.3f um (001: "
+        "residual grows A -> C)\n",
+        names[k], run.vibration->natural_frequencies_hz.front(),
+        run.vibration->peak_to_peak_m.x() * 1e6, run.vibration->peak_to_peak_m.y() * 1e6,
+        run.roughness.stepover.ra_m * 1e6, run.roughness.sa_m * 1e6,
+        run.roughness.max_residual_m * 1e6);
+  }
+}
+
+}  // namespace
