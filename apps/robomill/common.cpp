@@ -98,6 +98,14 @@ std::vector<std::string> job_sections(const io::Job& job) {
   add(job.stability.has_value(), "stability");
   add(job.robot.has_value(), "robot");
   add(!job.experiments.empty(), "experiments");
+  add(job.deflection.has_value(), "deflection");
+  add(job.simulation.has_value(), "simulation");
+  add(job.surface.has_value(), "surface");
+  add(job.workpiece.has_value(), "workpiece");
+  add(!job.path.empty(), "path");
+  add(job.optimize.has_value(), "optimize");
+  add(job.advise.has_value(), "advise");
+  add(job.atlas.has_value(), "atlas");
   return sections;
 }
 

@@ -46,6 +46,8 @@ awk -v a="$a" -v b="$b" 'BEGIN { d = a - b; if (d < 0) d = -d; s = b < 0 ? -b : 
 # Bad settings: the field, and what would work.
 expect_exit2 "steps_per_tooth: 8" simulate "$B" --set simulation.steps_per_tooth=4
 expect_exit2 "simulation.workpiece.border" simulate "$B" --set simulation.workpiece.border=200
+# validate names the simulation section among the job's sections.
+case "$("$ROBOMILL" validate "$B")" in *"process, simulation)"*) ;; *) fail "validate: no simulation section" ;; esac
 # DESIGN.md's name for the part is accepted too, once.
 sed 's/workpiece: {border: 0 mm}/workpiece_mesh: {border: 200 mm}/' "$B" > "$WORK/mesh.yaml"
 expect_exit2 "simulation.workpiece_mesh.border" simulate "$WORK/mesh.yaml"
