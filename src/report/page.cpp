@@ -351,8 +351,9 @@ void stack(Figure& figure, const std::string& x_title, const std::vector<std::st
     if (r + 1 < rows)
       x["showticklabels"] = false;
     // Keep any earlier settings (log axes) of these axes.
-    for (auto& [key, value] :
-         figure.layout.value("yaxis" + suffix, nlohmann::json::object()).items())
+    // (A named copy: items() of a temporary would outlive it in the loop.)
+    const nlohmann::json earlier = figure.layout.value("yaxis" + suffix, nlohmann::json::object());
+    for (const auto& [key, value] : earlier.items())
       y[key] = value;
     figure.layout["yaxis" + suffix] = y;
     figure.layout["xaxis" + suffix] = x;
