@@ -156,6 +156,9 @@ CommandResult compute_surface(const io::Job& job, int threads) {
         {"warmup_s", vibration->warmup_s},
         {"entry_mm", s.entry_m ? nlohmann::json(*s.entry_m * 1e3) : nlohmann::json(nullptr)},
         {"restarts_each_pass", vibration->vibration.per_pass},
+        {"start", s.entry_m         ? "entry"
+                  : s.start_at_rest ? "rest"
+                                    : "steady"},
         {"simulated_s", vibration->duration_s},
         {"mean_um", io::xyz(vibration->mean_m * 1e6)},
         {"peak_to_peak_um", io::xyz(vibration->peak_to_peak_m * 1e6)}};

@@ -63,15 +63,22 @@ void read_surface(SectionReader& root, Job& job) {
   s.warmup_s = r.optional_quantity(
       "warmup", field(dimensions::time, 1.0, "s", kNonNegative, Bound{600.0, true}));
   s.entry_m = r.optional_quantity("entry", length_mm(kNonNegative));
+  const bool start_given = r.has("start");
+  s.start_at_rest = r.choice("start", {"steady", "rest"}, "steady") == "rest";
   s.simulation_steps_per_tooth = r.integer_or("steps_per_tooth", 1, 100000, 0);
   if (s.warmup_s && s.entry_m)
     r.fail("warmup",
            "give either warmup (a steady cut) or entry (each pass enters the part), "
            "not both");
-  if (!s.vibration && (s.warmup_s || s.entry_m || s.simulation_steps_per_tooth > 0))
-    r.fail(s.warmup_s  ? "warmup"
-           : s.entry_m ? "entry"
-                       : "steps_per_tooth",
+  if (s.start_at_rest && (s.warmup_s || s.entry_m))
+    r.fail("start",
+           fmt::format("start: rest (each pass from rest, fully engaged) excludes {}; give one",
+                       s.warmup_s ? "warmup (a steady cut)" : "entry (each pass enters the part)"));
+  if (!s.vibration && (s.warmup_s || s.entry_m || start_given || s.simulation_steps_per_tooth > 0))
+    r.fail(s.warmup_s    ? "warmup"
+           : s.entry_m   ? "entry"
+           : start_given ? "start"
+                         : "steps_per_tooth",
            "only with vibration: true (they set up the time-domain simulation)");
   s.steps_line = r.line_of("steps_per_revolution");
   s.steps_per_revolution = r.integer_or("steps_per_revolution", 1, 100'000'000, 0);

@@ -80,6 +80,10 @@ simulation::LinearStructure vibration_structure(const Job& job, const SurfaceSet
 SurfaceVibration simulate_vibration(const Job& job, const SurfaceSettings& s,
                                     const tool::Tool& cutter, double path_time_s,
                                     std::optional<double> border_m) {
+  // One pass simulated from rest and reused for every pass: with an entry
+  // (the part's border ahead of the cutter) or 001's dde23 reading (start:
+  // rest — a zero history, the cut fully engaged from t = 0).
+  const bool per_pass = border_m.has_value() || s.start_at_rest;
   SurfaceVibration run;
   const simulation::LinearStructure structure = vibration_structure(job, s);
   run.structure = structure.description;
@@ -104,10 +108,9 @@ SurfaceVibration simulate_vibration(const Job& job, const SurfaceSettings& s,
                                  run.steps_per_tooth, needed));
   // Start in the steady cut: three decay times of the slowest mode (at most
   // 10 s) before the patch, unless surface.warmup says otherwise.
-  // With an entry (border_m), one pass from its start: the part's border is
-  // border_m ahead of the cutter's centre, and the series restarts per pass.
+  // Per pass (entry, start: rest): no warm-up, the series restarts per pass.
   run.warmup_s =
-      border_m ? 0.0 : (s.warmup_s ? *s.warmup_s : std::min(10.0, 3.0 * slowest_decay_s));
+      per_pass ? 0.0 : (s.warmup_s ? *s.warmup_s : std::min(10.0, 3.0 * slowest_decay_s));
   run.duration_s = run.warmup_s + path_time_s;
   const double steps = run.duration_s / tooth_period_s * run.steps_per_tooth;
   if (steps > 2e8)
@@ -132,7 +135,7 @@ SurfaceVibration simulate_vibration(const Job& job, const SurfaceSettings& s,
     throw InputError("surface.vibration", line_or(s.vibration_line, s.line), error.what());
   }
   run.vibration.step_s = result.record_interval_s;
-  run.vibration.per_pass = border_m.has_value();
+  run.vibration.per_pass = per_pass;
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
   for (std::size_t i = 0; i < result.size(); ++i) {
     if (result.time_s[i] + 1e-12 < run.warmup_s)
@@ -252,7 +255,8 @@ SurfaceRun run_surface_job(const Job& job, int threads) {
 
   std::optional<SurfaceVibration> vibration;
   if (s.vibration) {
-    vibration = simulate_vibration(job, s, cutter, border_m ? pass_time_s : path_time_s, border_m);
+    vibration = simulate_vibration(
+        job, s, cutter, (border_m || s.start_at_rest) ? pass_time_s : path_time_s, border_m);
     if (vibration->vibration.amplitude_m() > 0.05e-3)
       throw InputError("surface.vibration", line_or(s.vibration_line, s.line),
                        fmt::format("the tool vibrates by {:.4g} um around its mean (chatter or "

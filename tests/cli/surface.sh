@@ -52,4 +52,11 @@ expect_exit2 "process.ap" surface "$J" "${FAST[@]}" --set process.ap=5 --set too
 # Vibration needs dynamics.
 expect_exit2 "surface.vibration" surface "$SOURCE/examples/001_ball_end_surface.yaml" \
   --set 'surface={area: [0.5, 0.5], grid: [100, 100], vibration: true}'
+# start: rest (001's dde23 reading) is a choice, only with vibration, and
+# excludes warmup and entry.
+expect_exit2 "surface.start" surface "$J" --set surface.start=sometimes
+expect_exit2 "expected one of: steady, rest" surface "$J" --set surface.start=sometimes
+expect_exit2 "surface.start" surface "$J" --set surface.start=rest --set 'surface.warmup=1 s'
+expect_exit2 "surface.start" surface "$J" --set surface.start=rest --set surface.entry=1
+expect_exit2 "surface.start" surface "$J" "${FAST[@]}" --set surface.start=rest
 finish

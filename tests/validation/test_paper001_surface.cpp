@@ -93,13 +93,44 @@ TEST(Paper001Surface, Table2CasesNextToTable3) {
                                    ratio > 1.0 / 3.0 && ratio < 3.0, assumptions});
         }
       }
+      // 001 §2.2.2's own reading: dde23 from a zero history, every pass
+      // starting at rest fully engaged, so the start-up transient of the
+      // robot modes imprints on the patch (surface.start: rest).
+      const io::SurfaceRun rest =
+          io::run_surface_job(io::load_job(example(c), {{"surface.start", "rest"}}), 0);
+      const double rest_feed_ra = rest.roughness.feed.ra_m * 1e6,
+                   rest_sa = rest.roughness.sa_m * 1e6;
+      std::printf(
+          "[validation] 001 case %d, start: rest (Eq 29 grid): Ra along the feed %.3f um, "
+          "across %.3f um, Sa %.3f um, Sz %.3f um\n",
+          c, rest_feed_ra, rest.roughness.stepover.ra_m * 1e6, rest_sa, rest.roughness.sz_m * 1e6);
+      // A transient can only add non-periodic height: not smoother than the steady cut.
+      EXPECT_GT(rest_sa, fine.roughness.sa_m * 1e6);
+      for (const Table3& t : kTable3) {
+        if (t.case_number != c)
+          continue;
+        const std::string item =
+            "Tab. 3, area " + std::string(t.area) + " (case " + std::to_string(c) + ")";
+        const std::string assumptions =
+            "examples/001_case_" + std::to_string(c) +
+            "_surface.yaml with start: rest (001's dde23 from a zero history, each pass), Eq 29 "
+            "grid; not asserted (docs/surface.md)";
+        for (const auto& [quantity, ours_um] :
+             {std::tuple{"Ra along the feed, start: rest", rest_feed_ra},
+              std::tuple{"Sa, start: rest", rest_sa}}) {
+          const double ratio = ours_um / t.ra_um;
+          test::record_validation({"001", item, quantity, "um", test::sig4(t.ra_um),
+                                   test::sig4(ours_um), test::labelled("x", ratio), "x1/3 ... x3",
+                                   ratio > 1.0 / 3.0 && ratio < 3.0, assumptions});
+        }
+      }
     }
   }
 }
 
 /// Case 5 with the posture library's dynamics interpolated (001 Eq 16-18)
 /// at three postures moving away from the robot base along x.
-io::Job area_job(const char* at) {
+io::Job area_job(const char* at, const char* start) {
   const std::string case5 = read(example(5));
   const std::string library =
       read(std::string(ROBOMILL_SOURCE_DIR) + "/examples/001_kr270_posture_library.yaml");
@@ -108,36 +139,74 @@ io::Job area_job(const char* at) {
   std::string dynamics = library.substr(l0, l1 - l0);
   dynamics.insert(std::string("dynamics:\n").size(), std::string("  at: ") + at + "\n");
   const std::string text = case5.substr(0, d0) + dynamics + case5.substr(d1);
-  return io::parse_job(text, example(5),
-                       {{"surface.grid", "[100, 100]"}, {"surface.grid_rule", "false"}});
+  return io::parse_job(
+      text, example(5),
+      {{"surface.grid", "[100, 100]"}, {"surface.grid_rule", "false"}, {"surface.start", start}});
 }
 
+/// 001 §3.3 (Figures 16-17): vibration raises the roughness, and "the
+/// residual height of the machined surface tends to increase in the direction
+/// away from the robot base (from A to C)". Asserted for 001's own reading of
+/// the vibration (start: rest, dde23 from a zero history): the start-up
+/// transient of the robot modes scales with their compliance, which grows
+/// away from the base. In a steady cut the vibration is locked to the spindle
+/// and prints nearly the same on every tooth, so the trend is within 3 % and
+/// not robust (printed, not asserted; docs/surface.md).
 TEST(Paper001Surface, PostureDependentVibration) {
   const char* postures[] = {"[0, 17.377, 26.257, 0, 46.366, 0]",   // tool at x = 1650 mm
                             "[0, 25.995, 13.011, 0, 50.994, 0]",   // 1900 mm
                             "[0, 34.815, -1.862, 0, 57.047, 0]"};  // 2150 mm
   const char* names[] = {"A (1650 mm)", "B (1900 mm)", "C (2150 mm)"};
-  io::Job still_job = area_job(postures[0]);
+  io::Job still_job = area_job(postures[0], "steady");
   still_job.surface->vibration = false;
   const io::SurfaceRun still = io::run_surface_job(still_job, 0);
   std::printf(
-      "[validation] 001 case 5 without vibration: Ra %.3f um, Sa %.3f um, max residual "
-      "%.3f um\n",
-      still.roughness.stepover.ra_m * 1e6, still.roughness.sa_m * 1e6,
+      "[validation] 001 case 5 without vibration: Ra %.3f um, Sa %.3f um, Sz %.3f um, max "
+      "residual %.3f um\n",
+      still.roughness.stepover.ra_m * 1e6, still.roughness.sa_m * 1e6, still.roughness.sz_m * 1e6,
       still.roughness.max_residual_m * 1e6);
+  double previous_sz = 0.0, previous_sa = 0.0, previous_feed_ra = 0.0, first_sz = 0.0;
   for (int k = 0; k < 3; ++k) {
-    const io::SurfaceRun run = io::run_surface_job(area_job(postures[k]), 0);
-    // 001 §3.3 / Figures 16-17: vibration raises the roughness.
-    EXPECT_GT(run.roughness.sa_m, still.roughness.sa_m);
-    EXPECT_GT(run.roughness.max_residual_m, still.roughness.max_residual_m);
-    std::printf(
-        "[validation] 001 case 5 area %s, IDW dynamics (first mode %.2f Hz), vibration "
-        "p-p x %.2f y %.2f um: Ra %.3f um, Sa %.3f um, max residual %.3f um (001: "
-        "residual grows A -> C)\n",
-        names[k], run.vibration->natural_frequencies_hz.front(),
-        run.vibration->peak_to_peak_m.x() * 1e6, run.vibration->peak_to_peak_m.y() * 1e6,
-        run.roughness.stepover.ra_m * 1e6, run.roughness.sa_m * 1e6,
-        run.roughness.max_residual_m * 1e6);
+    for (const char* start : {"steady", "rest"}) {
+      const io::SurfaceRun run = io::run_surface_job(area_job(postures[k], start), 0);
+      // Vibration raises the roughness (Figures 16b-d against 16a).
+      EXPECT_GT(run.roughness.sa_m, still.roughness.sa_m) << names[k] << ", " << start;
+      EXPECT_GT(run.roughness.sz_m, still.roughness.sz_m) << names[k] << ", " << start;
+      const double sz = run.roughness.sz_m * 1e6, sa = run.roughness.sa_m * 1e6,
+                   feed_ra = run.roughness.feed.ra_m * 1e6;
+      std::printf(
+          "[validation] 001 case 5 area %s, IDW dynamics (first mode %.2f Hz), start: %s, "
+          "vibration p-p x %.2f y %.2f z %.2f um: Ra across %.3f / along the feed %.3f um, Sa "
+          "%.3f um, Sz %.3f um, max residual %.3f um\n",
+          names[k], run.vibration->natural_frequencies_hz.front(), start,
+          run.vibration->peak_to_peak_m.x() * 1e6, run.vibration->peak_to_peak_m.y() * 1e6,
+          run.vibration->peak_to_peak_m.z() * 1e6, run.roughness.stepover.ra_m * 1e6, feed_ra, sa,
+          sz, run.roughness.max_residual_m * 1e6);
+      if (std::string(start) != "rest")
+        continue;
+      if (k == 0) {
+        first_sz = sz;
+      } else {
+        // Farther from the base: a higher surface (Sz, the areal residual
+        // height), a rougher one (Sa) and deeper feed-direction waves.
+        EXPECT_GT(sz, previous_sz) << names[k];
+        EXPECT_GT(sa, previous_sa) << names[k];
+        EXPECT_GT(feed_ra, previous_feed_ra) << names[k];
+      }
+      if (k == 2)
+        test::record_validation(
+            {"001", "§3.3 / Fig. 16, areas A -> C (case 5)", "residual height Sz, start: rest",
+             "um", "grows A -> C",
+             test::sig4(first_sz) + " -> " + test::sig4(previous_sz) + " -> " + test::sig4(sz),
+             test::labelled("x", sz / first_sz), "> x1 at each step",
+             sz > previous_sz && previous_sz > first_sz,
+             "KR270-class posture library (examples/001_kr270_posture_library.yaml) at tool x = "
+             "1650, 1900, 2150 mm; 001's grid 100 x 100; start: rest (dde23 from a zero "
+             "history); in a steady cut the trend is under 3 % and not asserted"});
+      previous_sz = sz;
+      previous_sa = sa;
+      previous_feed_ra = feed_ra;
+    }
   }
 }
 

@@ -242,6 +242,10 @@ struct SurfaceSettings {
   /// `entry` (mm): every pass enters the part this far before the patch
   /// (the vibration restarts with each pass); none: a steady cut.
   std::optional<double> entry_m;
+  /// `start: rest`: every pass's vibration starts from rest with the cut
+  /// fully engaged — 001 §2.2.2's dde23 solution from a zero history (the
+  /// start-up transient imprints on the patch); false: `steady`.
+  bool start_at_rest = false;
   int simulation_steps_per_tooth = 0;  ///< `steps_per_tooth`; 0: automatic
   int steps_per_revolution = 0;        ///< `steps_per_revolution`; 0: Eq 30
   double edge_spacing_m = 0.0;         ///< `edge_spacing` (mm); 0: Eq 31
