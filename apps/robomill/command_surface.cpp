@@ -169,6 +169,19 @@ CommandResult compute_surface(const io::Job& job, int threads) {
   CommandResult output;
   output.tables.emplace_back("surface", std::move(table));
   output.tables.emplace_back("profiles", std::move(profiles));
+  if (vibration && !vibration->vibration.empty()) {
+    // The vibration the Z-map added (spindle frame; from the first pass's
+    // start, or from every pass's start when it restarts per pass), at most
+    // 20 000 rows: what printed onto the surface, for the report's plot.
+    const surface::Vibration& u = vibration->vibration;
+    const std::size_t every = (u.displacement_m.size() + 19'999) / 20'000;
+    io::CsvTable series({"t_s", "x_um", "y_um", "z_um"});
+    for (std::size_t i = 0; i < u.displacement_m.size(); i += every) {
+      const Eigen::Vector3d& d = u.displacement_m[i];
+      series.add_row({static_cast<double>(i) * u.step_s, d.x() * 1e6, d.y() * 1e6, d.z() * 1e6});
+    }
+    output.tables.emplace_back("vibration", std::move(series));
+  }
   output.texts.emplace_back("surface.bmp", heat_map_bmp(map));
   output.summary = std::move(summary);
   output.message = fmt::format(

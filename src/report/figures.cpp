@@ -1127,6 +1127,21 @@ void surface(const Outputs& o, Content& c) {
       c.figures.push_back(std::move(p));
     }
   }
+  if (const auto v = o.table("vibration.csv", c, false)) {
+    const std::vector<double> time = v->numbers("t_s");
+    Figure f =
+        xy_figure("Tool vibration added to the cutting edges", "time (s)", "displacement (µm)");
+    f.caption =
+        "Tool-tip displacement of the time-domain simulation (spindle frame, 001 Eq 26-28), "
+        "from the first pass's start — or from every pass's start when the vibration restarts "
+        "per pass (surface.start: rest, surface.entry).";
+    std::size_t k = 0;
+    for (const char* col : {"x_um", "y_um", "z_um"})
+      if (v->any_nonzero(col))
+        f.data.push_back(line_trace(time, v->numbers(col), std::string("u") + col[0], k++));
+    if (!f.data.empty())
+      c.figures.push_back(std::move(f));
+  }
 }
 
 }  // namespace
