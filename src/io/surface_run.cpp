@@ -118,8 +118,11 @@ SurfaceVibration simulate_vibration(const Job& job, const SurfaceSettings& s,
                      fmt::format("the simulation would take {:.3g} steps (limit 2e8); shorten the "
                                  "warmup, the patch or steps_per_tooth",
                                  steps));
-  cutting::MillingProcess half = process;
-  half.radial_depth_m = cutter.radius_m();
+  // The raster's engagement: the previous pass's groove leaves a strip one
+  // step-over wide at every height, so each disk of the edge cuts a crescent
+  // of radial depth `stepover` (Workpiece::raster_groove), down to the tip.
+  cutting::MillingProcess raster = process;
+  raster.radial_depth_m = s.stepover_m;
   simulation::SimulationOptions options;
   options.duration_s = run.duration_s;
   options.steps_per_tooth = run.steps_per_tooth;
@@ -128,9 +131,10 @@ SurfaceVibration simulate_vibration(const Job& job, const SurfaceSettings& s,
   simulation::SimulationResult result;
   try {
     simulation::Workpiece part;
+    part.raster_groove = true;
     if (border_m)
       part.border_x_m = *border_m;
-    result = simulation::simulate(cutter, *job.cutting, half, structure, part, options);
+    result = simulation::simulate(cutter, *job.cutting, raster, structure, part, options);
   } catch (const std::invalid_argument& error) {
     throw InputError("surface.vibration", line_or(s.vibration_line, s.line), error.what());
   }

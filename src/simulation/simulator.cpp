@@ -37,17 +37,23 @@ class CuttingGeometry {
         feed_speed_m_s_(process.feed_per_tooth_m * tool.teeth() * process.spindle_rad_s / kTwoPi),
         step_s_(step_s),
         border_x_m_(workpiece.border_x_m) {
-    const double radius = tool.radius_m();
-    // The radial band of the part (cutting/engagement.hpp's convention).
-    if (process.radial_depth_m < 2.0 * radius) {
-      if (process.direction == cutting::MillingDirection::down)
-        band_max_y_m_ = process.radial_depth_m - radius;
-      else
-        band_min_y_m_ = radius - process.radial_depth_m;
-    }
     const auto elements =
         tool::discretize_edge(tool, process.axial_depth_m, options.axial_elements);
     elements_ = static_cast<int>(elements.size());
+    // The radial band of the part (cutting/engagement.hpp's convention),
+    // measured from the tool's radius, or from each element's own radius in
+    // a raster's groove (Workpiece::raster_groove).
+    band_min_y_m_.assign(elements.size(), -kInfinity);
+    band_max_y_m_.assign(elements.size(), kInfinity);
+    for (std::size_t k = 0; k < elements.size(); ++k) {
+      const double radius = workpiece.raster_groove ? elements[k].radius_m : tool.radius_m();
+      if (process.radial_depth_m < 2.0 * radius) {
+        if (process.direction == cutting::MillingDirection::down)
+          band_max_y_m_[k] = process.radial_depth_m - radius;
+        else
+          band_min_y_m_[k] = radius - process.radial_depth_m;
+      }
+    }
     const std::size_t grid = static_cast<std::size_t>(elements_) * cells_;
     sin_.resize(grid);
     cos_.resize(grid);
@@ -132,14 +138,16 @@ class CuttingGeometry {
         // Raw material behind the edge along −n (zero outside the part).
         const double r = edge_radius_[std::size_t(k) * teeth_ + j];
         const double px = centre_x + r * sin_phi, py = centre_y + r * cos_phi;
-        if (px < border_x_m_ || py > band_max_y_m_ || py < band_min_y_m_)
+        const double band_min = band_min_y_m_[std::size_t(k)],
+                     band_max = band_max_y_m_[std::size_t(k)];
+        if (px < border_x_m_ || py > band_max || py < band_min)
           continue;
         if (nx > 0.0)
           chip = std::min(chip, (px - border_x_m_) / nx);
         if (ny > 0.0)
-          chip = std::min(chip, (py - band_min_y_m_) / ny);
+          chip = std::min(chip, (py - band_min) / ny);
         else if (ny < 0.0)
-          chip = std::min(chip, (band_max_y_m_ - py) / -ny);
+          chip = std::min(chip, (band_max - py) / -ny);
         if (!(chip > 0.0))
           continue;
         const cutting::EdgeForce f = law_(chip, width_[k]);
@@ -169,7 +177,7 @@ class CuttingGeometry {
   cutting::ResolvedLaw law_;
   int teeth_, steps_per_tooth_, cells_, elements_ = 0;
   double feed_speed_m_s_, step_s_, border_x_m_;
-  double band_min_y_m_ = -kInfinity, band_max_y_m_ = kInfinity;
+  std::vector<double> band_min_y_m_, band_max_y_m_;  // per element
   double friction_ = 0.0;
   std::vector<double> sin_, cos_, surface_;  // element-major grids of cells
   std::vector<double> width_, sin_kappa_, cos_kappa_, damping_;

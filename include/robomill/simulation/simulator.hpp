@@ -57,6 +57,12 @@ namespace robomill::simulation {
 /// band of the process. −∞: the cutter is in the steady cut from t = 0.
 struct Workpiece {
   double border_x_m = -std::numeric_limits<double>::infinity();
+  /// false: the radial band (ae) is measured from the tool's radius — a
+  /// straight wall beside the pass (slotting, side milling). true: from each
+  /// edge element's own radius — a ball-end raster, where the previous pass's
+  /// groove leaves a strip ae wide at every height (001 §2.4's path interval),
+  /// so every disk of the ball cuts a crescent of radial depth ae.
+  bool raster_groove = false;
   bool has_border() const noexcept { return border_x_m > -1e300; }
 };
 
