@@ -125,15 +125,13 @@ void check_settings(const io::Job& job, const io::SimulationSettings& s,
       why = fmt::format("8 steps per period of the highest mode ({:.4g} Hz)", highest_hz);
     }
   }
-  // At least 5 steps across the engaged arc (the chip's entry and exit).
-  const cutting::Engagement arc = cutting::radial_engagement(
-      cutter.radius_m(), cutter.radius_m(), process.radial_depth_m, process.direction);
-  const int for_arc = static_cast<int>(
-      std::ceil(5.0 * (kTwoPi / teeth) / std::max(arc.exit_rad - arc.entry_rad, 1e-9)));
-  if (for_arc > needed) {
-    needed = for_arc;
-    why = fmt::format("5 steps across the engaged arc of {:.1f} deg",
-                      (arc.exit_rad - arc.entry_rad) * 180.0 / std::numbers::pi);
+  // Enough steps across the engaged arc (the chip's entry and exit).
+  const simulation::ArcResolution arc =
+      simulation::engaged_arc_resolution(cutter, process, simulation::Workpiece{});
+  if (arc.steps_per_tooth > needed) {
+    needed = arc.steps_per_tooth;
+    why = fmt::format("{} steps across the engaged arc of {:.1f} deg",
+                      simulation::kStepsAcrossEngagedArc, arc.arc_rad * 180.0 / std::numbers::pi);
   }
   // Process damping is applied explicitly: its rate on the lightest direction
   // bounds the step (simulation::process_damping_step_limit_s).

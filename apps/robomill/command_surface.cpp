@@ -108,6 +108,8 @@ CommandResult compute_surface(const io::Job& job, int threads) {
       {"max_residual_um", r.max_residual_m * 1e6},
       {"profiles", {{"feed", profile_json(r.feed)}, {"stepover", profile_json(r.stepover)}}},
       {"feed_mark_um", r.feed_mark_m * 1e6},
+      {"feed_texture_interval_mm", r.feed_texture_interval_m * 1e3},
+      {"feed_texture_interval_in_fz", r.feed_texture_interval_m / path.feed_per_tooth_m},
       {"analytic",
        {{"scallop_um", cutter.type() == tool::ToolType::ball
                            ? nlohmann::json(surface::scallop_height(radius, path.stepover_m) * 1e6)
@@ -160,6 +162,11 @@ CommandResult compute_surface(const io::Job& job, int threads) {
                   : s.start_at_rest ? "rest"
                                     : "steady"},
         {"simulated_s", vibration->duration_s},
+        {"chatter", vibration->verdict.chatter},
+        {"chatter_freq_hz", vibration->verdict.chatter
+                                ? nlohmann::json(vibration->verdict.frequency_hz)
+                                : nlohmann::json(nullptr)},
+        {"nonharmonic_fraction", vibration->verdict.nonharmonic_fraction},
         {"mean_um", io::xyz(vibration->mean_m * 1e6)},
         {"peak_to_peak_um", io::xyz(vibration->peak_to_peak_m * 1e6)}};
   } else {
@@ -184,6 +191,13 @@ CommandResult compute_surface(const io::Job& job, int threads) {
   }
   output.texts.emplace_back("surface.bmp", heat_map_bmp(map));
   output.summary = std::move(summary);
+  std::string character;
+  if (vibration && vibration->verdict.chatter)
+    character = fmt::format(
+        "  the vibration is not locked to the spindle: chatter at {:.1f} Hz ({:.3f} x the spindle "
+        "frequency; 0.5: period doubling)\n",
+        vibration->verdict.frequency_hz,
+        vibration->verdict.frequency_hz * 2.0 * std::numbers::pi / job.process->spindle_rad_s);
   output.message = fmt::format(
       "surface: {} x {} nodes over {:.4g} x {:.4g} mm, {} passes, {}; Z-map in {:.2f} s\n"
       "  Ra {:.4f} um, Rq {:.4f} um (step-over lines); feed lines Ra {:.4f} um\n"
@@ -192,6 +206,7 @@ CommandResult compute_surface(const io::Job& job, int threads) {
       vibration ? "with vibration" : "without vibration", zmap_s, r.stepover.ra_m * 1e6,
       r.stepover.rq_m * 1e6, r.feed.ra_m * 1e6, r.sa_m * 1e6, r.sq_m * 1e6, r.sz_m * 1e6,
       r.max_residual_m * 1e6);
+  output.message += character;
   return output;
 }
 

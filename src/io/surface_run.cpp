@@ -75,8 +75,9 @@ simulation::LinearStructure vibration_structure(const Job& job, const SurfaceSet
 
 /// 001 §2.2: the tool-tip vibration over the raster, from the time-domain
 /// simulation of the cut (simulation/simulator.hpp) on the job's structure.
-/// The raster's crescent-shaped engagement is modelled as half immersion at
-/// depth ap (the stock beside the pass; docs/surface.md).
+/// The raster's engagement is the previous pass's groove: every disk of the
+/// edge cuts a crescent one step-over deep (Workpiece::raster_groove;
+/// docs/surface.md).
 SurfaceVibration simulate_vibration(const Job& job, const SurfaceSettings& s,
                                     const tool::Tool& cutter, double path_time_s,
                                     std::optional<double> border_m) {
@@ -100,12 +101,25 @@ SurfaceVibration simulate_vibration(const Job& job, const SurfaceSettings& s,
     if (zeta > 0.0)
       slowest_decay_s = std::max(slowest_decay_s, 1.0 / (zeta * omega));
   }
+  // The raster's engagement (see below) on its narrowest arc.
+  cutting::MillingProcess raster = process;
+  raster.radial_depth_m = s.stepover_m;
+  simulation::Workpiece part;
+  part.raster_groove = true;
+  const simulation::ArcResolution arc = simulation::engaged_arc_resolution(cutter, raster, part);
+  const bool arc_rules = arc.steps_per_tooth > needed;
+  needed = std::max(needed, arc.steps_per_tooth);
   run.steps_per_tooth = s.simulation_steps_per_tooth > 0 ? s.simulation_steps_per_tooth : needed;
   if (run.steps_per_tooth < needed)
-    throw InputError("surface.steps_per_tooth", s.line,
-                     fmt::format("{} steps per tooth period do not resolve the highest mode; "
-                                 "use steps_per_tooth: {} or more",
-                                 run.steps_per_tooth, needed));
+    throw InputError(
+        "surface.steps_per_tooth", s.line,
+        fmt::format("{} steps per tooth period do not resolve {}; use steps_per_tooth: {} or more",
+                    run.steps_per_tooth,
+                    arc_rules ? fmt::format("the engaged arc of {:.1f} deg ({} steps across it)",
+                                            arc.arc_rad * 180.0 / std::numbers::pi,
+                                            simulation::kStepsAcrossEngagedArc)
+                              : std::string("the highest mode (8 steps per period)"),
+                    needed));
   // Start in the steady cut: three decay times of the slowest mode (at most
   // 10 s) before the patch, unless surface.warmup says otherwise.
   // Per pass (entry, start: rest): no warm-up, the series restarts per pass.
@@ -121,8 +135,6 @@ SurfaceVibration simulate_vibration(const Job& job, const SurfaceSettings& s,
   // The raster's engagement: the previous pass's groove leaves a strip one
   // step-over wide at every height, so each disk of the edge cuts a crescent
   // of radial depth `stepover` (Workpiece::raster_groove), down to the tip.
-  cutting::MillingProcess raster = process;
-  raster.radial_depth_m = s.stepover_m;
   simulation::SimulationOptions options;
   options.duration_s = run.duration_s;
   options.steps_per_tooth = run.steps_per_tooth;
@@ -130,13 +142,22 @@ SurfaceVibration simulate_vibration(const Job& job, const SurfaceSettings& s,
   options.record_every = std::max(1, static_cast<int>(std::ceil(steps / 4e6)));
   simulation::SimulationResult result;
   try {
-    simulation::Workpiece part;
-    part.raster_groove = true;
     if (border_m)
       part.border_x_m = *border_m;
     result = simulation::simulate(cutter, *job.cutting, raster, structure, part, options);
   } catch (const std::invalid_argument& error) {
     throw InputError("surface.vibration", line_or(s.vibration_line, s.line), error.what());
+  }
+  simulation::ResponseOptions analysis;
+  analysis.spindle_rad_s = process.spindle_rad_s;
+  analysis.teeth = cutter.teeth();
+  analysis.runout = cutter.runout().offset_m > 0.0;
+  analysis.steady_window_s =
+      std::max(0.5 * run.duration_s, kTwoPi / process.spindle_rad_s * (analysis.runout ? 1 : 0.5));
+  try {
+    run.verdict = simulation::analyze_response(result, analysis).chatter;
+  } catch (const std::invalid_argument&) {
+    // A run too short for a verdict (under a revolution): none.
   }
   run.vibration.step_s = result.record_interval_s;
   run.vibration.per_pass = per_pass;

@@ -187,6 +187,21 @@ class CuttingGeometry {
 
 }  // namespace
 
+ArcResolution engaged_arc_resolution(const tool::Tool& tool, const cutting::MillingProcess& process,
+                                     const Workpiece& workpiece, int steps_across) {
+  // In a groove every disk cuts a band ae wide measured from its own
+  // radius, so the widest disk in the cut has the narrowest arc.
+  const double radius =
+      workpiece.raster_groove ? tool.edge_radius_m(process.axial_depth_m) : tool.radius_m();
+  const cutting::Engagement arc =
+      cutting::radial_engagement(radius, radius, process.radial_depth_m, process.direction);
+  ArcResolution out;
+  out.arc_rad = std::max(arc.exit_rad - arc.entry_rad, 1e-9);
+  out.steps_per_tooth = static_cast<int>(
+      std::ceil(steps_across * (kTwoPi / tool.teeth()) / out.arc_rad * (1.0 - 1e-12)));
+  return out;
+}
+
 double process_damping_step_limit_s(const tool::Tool& tool, const cutting::MillingProcess& process,
                                     const LinearStructure& structure,
                                     const stability::LinearProcessDamping& damping) {

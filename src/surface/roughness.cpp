@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "robomill/simulation/spectrum.hpp"
+
 namespace robomill::surface {
 
 ProfileRoughness profile_roughness(std::span<const double> z) {
@@ -63,6 +65,23 @@ SurfaceRoughness roughness(const ZMap& map) {
     s.feed.rz_m += p.rz_m / ny;
   }
   s.feed_mark_m = s.feed.rz_m;
+  // Texture interval: the mean spectrum of the feed lines (x as "time").
+  if (nx >= 8) {
+    simulation::AmplitudeSpectrum mean;
+    for (int j = 0; j < ny; ++j) {
+      const simulation::AmplitudeSpectrum line =
+          simulation::amplitude_spectrum(feed_line(map, j), map.grid.dx(), 4);
+      if (mean.amplitude.empty())
+        mean = line;
+      else
+        for (std::size_t k = 0; k < line.amplitude.size(); ++k)
+          mean.amplitude[k] += line.amplitude[k];
+    }
+    const double length_m = map.grid.length_x_m;
+    const double cycles_per_m =
+        simulation::peak_frequency_hz(mean, 2.0 / length_m, 0.5 / map.grid.dx());
+    s.feed_texture_interval_m = cycles_per_m > 0.0 ? 1.0 / cycles_per_m : 0.0;
+  }
   for (int i = 0; i < nx; ++i) {
     const std::vector<double> line = stepover_line(map, i);
     const ProfileRoughness p = profile_roughness(line);

@@ -34,9 +34,9 @@ awk -v v="$ys" 'BEGIN { exit !(v > 0.42 && v < 0.47) }' || fail "case C y_s $ys 
 # A 3-joint robot: the reduced model (3-D, exact for 3 joints) and the
 # joint-space modes (dynamics.from_robot) are the same structure.
 R="$SOURCE/examples/004_kr300_pose_optimization.yaml"
-SIM='simulation={duration: 0.6 s, steps_per_tooth: 40, damping_ratio: 0.05, model: reduced6d}'
+SIM='simulation={duration: 0.6 s, steps_per_tooth: 48, damping_ratio: 0.05, model: reduced6d}'
 "$ROBOMILL" simulate "$R" --set "$SIM" --out "$WORK/r1" --quiet || fail "reduced6d exit code"
-"$ROBOMILL" simulate "$R" --set 'simulation={duration: 0.6 s, steps_per_tooth: 40}' \
+"$ROBOMILL" simulate "$R" --set 'simulation={duration: 0.6 s, steps_per_tooth: 48}' \
   --set dynamics.from_robot=true --out "$WORK/r2" --quiet || fail "from_robot exit code"
 a=$(json_number "$WORK/r1/summary.json" static_deviation_mm y)
 b=$(json_number "$WORK/r2/summary.json" static_deviation_mm y)

@@ -240,6 +240,48 @@ TEST(SurfaceZMap, VibrationRaisesRoughnessAndBreaksThePeriodicity) {
       periodic_still, periodic_shaken);
 }
 
+// A vibration locked to the spindle (here 3 um along z at the tooth
+// frequency and its harmonic) moves every tooth's imprint the same way, so
+// the surface is the kinematic one, shifted: Sa barely changes, the texture
+// interval stays the feed per tooth. The same vibration at half the
+// revolution frequency (a period doubling) lowers every second revolution:
+// the texture interval becomes two revolutions' feed, 4 fz on two teeth —
+// 001 §3.3's "texture interval roughly four times larger" with vibration.
+TEST(SurfaceZMap, VibrationLockedToTheSpindlePrintsLikeTheKinematicSurface) {
+  const tool::Tool cutter = ball_tool();
+  surface::ToolOrientation o;
+  o.lead_rad = 10.0 * kPi / 180.0;
+  o.tilt_rad = 5.0 * kPi / 180.0;
+  const double fz = 0.025e-3;
+  const auto path = raster(fz, 0.1e-3, 16, -0.3e-3, -0.6e-3, 1.6e-3);
+  const auto g = grid(1e-3, 1e-3, 200, 200);
+  const double spindle_hz = path.spindle_rad_s / (2.0 * kPi);
+  auto shaken = [&](double frequency_hz) {
+    surface::Vibration vibration;
+    vibration.step_s = 2e-5;
+    for (int k = 0; k < 100000; ++k) {
+      const double t = k * vibration.step_s;
+      vibration.displacement_m.emplace_back(0.0, 0.0,
+                                            3e-6 * std::sin(2 * kPi * frequency_hz * t) +
+                                                1e-6 * std::sin(4 * kPi * frequency_hz * t + 0.5));
+    }
+    return surface::roughness(surface::cut_zmap(cutter, 0.5e-3, o, path, g, vibration, {}).map);
+  };
+  const auto still = surface::roughness(surface::cut_zmap(cutter, 0.5e-3, o, path, g, {}, {}).map);
+  const auto locked = shaken(2.0 * spindle_hz);  // the tooth frequency
+  const auto doubled = shaken(0.5 * spindle_hz);
+  EXPECT_NEAR(locked.sa_m, still.sa_m, 0.15 * still.sa_m);
+  EXPECT_NEAR(still.feed_texture_interval_m, fz, 0.02 * fz);
+  EXPECT_NEAR(locked.feed_texture_interval_m, fz, 0.02 * fz);
+  EXPECT_NEAR(doubled.feed_texture_interval_m, 4.0 * fz, 0.02 * 4.0 * fz);
+  EXPECT_GT(doubled.feed.ra_m, 3.0 * still.feed.ra_m);
+  std::printf(
+      "[surface] z vibration 3 um: Sa still %.4f, locked to the teeth %.4f, at half the "
+      "revolution frequency %.4f um; texture interval %.4f, %.4f, %.4f mm (fz %.4f mm)\n",
+      still.sa_m * 1e6, locked.sa_m * 1e6, doubled.sa_m * 1e6, still.feed_texture_interval_m * 1e3,
+      locked.feed_texture_interval_m * 1e3, doubled.feed_texture_interval_m * 1e3, fz * 1e3);
+}
+
 TEST(SurfaceZMap, ResolutionRulesFollowEq29And30) {
   const tool::Tool cutter = ball_tool();
   const auto path = raster(0.025e-3, 0.1e-3, 1, 0.0, 0.0, 1e-3);

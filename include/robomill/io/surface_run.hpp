@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "robomill/io/job.hpp"
+#include "robomill/simulation/response_metrics.hpp"
 #include "robomill/surface/roughness.hpp"
 #include "robomill/surface/topography.hpp"
 
@@ -23,6 +24,10 @@ struct SurfaceVibration {
   std::vector<double> natural_frequencies_hz;
   Eigen::Vector3d mean_m = Eigen::Vector3d::Zero(), peak_to_peak_m = Eigen::Vector3d::Zero();
   std::string structure;
+  /// The simulate command's verdict over the second half of the simulated
+  /// run: a vibration not locked to the tooth (or, with runout, the
+  /// revolution) — chatter, period doubling — is what roughens a surface.
+  simulation::ChatterVerdict verdict;
 };
 
 struct SurfaceRun {

@@ -90,6 +90,23 @@ struct SimulationResult {
   std::size_t size() const noexcept { return time_s.size(); }
 };
 
+/// How finely a step resolves the cut: the narrowest engaged arc of an edge
+/// point (the top of the cut in a raster groove, where the disk is widest;
+/// the tool's full radius against a straight wall) and the steps per tooth
+/// period that put `steps_across` steps across it. A coarser step misplaces
+/// the chip's entry and exit by up to a step; on a narrow arc that error is
+/// a large part of the cut, and in a ball-end raster on a soft structure it
+/// alone turned a stable cut into a spurious period doubling at 4-8 steps
+/// across the arc, converged from 12 (docs/surface.md).
+struct ArcResolution {
+  double arc_rad = 0.0;
+  int steps_per_tooth = 1;
+};
+inline constexpr int kStepsAcrossEngagedArc = 12;
+ArcResolution engaged_arc_resolution(const tool::Tool& tool, const cutting::MillingProcess& process,
+                                     const Workpiece& workpiece,
+                                     int steps_across = kStepsAcrossEngagedArc);
+
 /// The largest step for which process damping (000 Eq 19) stays stable in
 /// the time stepping. The damping force −C u̇ is evaluated from the state
 /// (predictor-corrector), i.e. explicitly: like Heun's method on u̇ = −λ u̇ it

@@ -31,6 +31,12 @@ struct SurfaceRoughness {
   double max_residual_m = 0.0;
   /// Mean peak-to-valley of the feed lines (the feed marks without vibration).
   double feed_mark_m = 0.0;
+  /// The texture interval along the feed (001 §3.3): the wavelength of the
+  /// largest peak of the feed lines' mean amplitude spectrum, between two
+  /// cells and half the patch; 0 when the lines are flat. Without vibration
+  /// the feed per tooth (per revolution with runout); a vibration locked to
+  /// every second revolution doubles the latter.
+  double feed_texture_interval_m = 0.0;
 };
 
 SurfaceRoughness roughness(const ZMap& map);
