@@ -18,8 +18,10 @@ namespace {
 using namespace robomill;
 constexpr double kPi = std::numbers::pi;
 
-tool::Tool cutter(double diameter_m, int teeth, double helix_deg, double runout_m = 0.0) {
+tool::Tool cutter(double diameter_m, int teeth, double helix_deg, double runout_m = 0.0,
+                  tool::ToolType type = tool::ToolType::flat) {
   tool::ToolSpec spec;
+  spec.type = type;
   spec.diameter_m = diameter_m;
   spec.teeth = teeth;
   spec.helix_rad = helix_deg * kPi / 180.0;
@@ -169,13 +171,7 @@ TEST(Simulator, RasterGrooveEngagesEachBallDiskByTheStepover) {
     return Eigen::Vector3d(mean / static_cast<double>(revolution));
   };
 
-  tool::ToolSpec spec;
-  spec.type = tool::ToolType::ball;
-  spec.diameter_m = 8e-3;
-  spec.teeth = teeth;
-  spec.helix_rad = 30.0 * kPi / 180.0;
-  spec.overhang_m = 25e-3;
-  const tool::Tool ball(spec);
+  const tool::Tool ball = cutter(8e-3, teeth, 30.0, 0.0, tool::ToolType::ball);
   Eigen::Vector3d expected = Eigen::Vector3d::Zero();
   for (const tool::EdgeElement& e :
        tool::discretize_edge(ball, process.axial_depth_m, options.axial_elements)) {
