@@ -106,9 +106,11 @@ std::string field_of(const std::string& key) {
 
 /// The checks that need the structure: a step fine enough for the highest
 /// mode and the engaged arc, a part the cutter reaches, a run long enough for
-/// the metrics. Each names the field and the value that would work.
-void check_settings(const io::Job& job, const io::SimulationSettings& s,
-                    const simulation::LinearStructure& structure, const tool::Tool& cutter) {
+/// the metrics. Each names the field and the value that would work. Returns
+/// the steps per tooth period to use: the job's, or, when the job does not
+/// set them, the default raised to what the structure and the cut need.
+int check_settings(const io::Job& job, const io::SimulationSettings& s,
+                   const simulation::LinearStructure& structure, const tool::Tool& cutter) {
   const cutting::MillingProcess& process = *job.process;
   const int teeth = cutter.teeth();
   const double tooth_period_s = kTwoPi / (process.spindle_rad_s * teeth);
@@ -151,7 +153,14 @@ void check_settings(const io::Job& job, const io::SimulationSettings& s,
                         1.0 / limit_s);
     }
   }
-  if (s.steps_per_tooth < needed)
+  const bool automatic = !s.steps_per_tooth_given;
+  const int steps_per_tooth = automatic ? std::max(s.steps_per_tooth, needed) : s.steps_per_tooth;
+  if (automatic && s.duration_s / tooth_period_s * steps_per_tooth / s.record_every > 2e7)
+    throw InputError(field_of("record_every"), s.line,
+                     fmt::format("{} steps per tooth period ({}) record more than 2e7 rows; raise "
+                                 "record_every or shorten the run",
+                                 steps_per_tooth, why));
+  if (steps_per_tooth < needed)
     throw InputError(
         field_of("steps_per_tooth"), s.steps_line ? s.steps_line : s.line,
         fmt::format("{} steps per tooth period (step {:.3g} s) is too coarse: {} "
@@ -194,6 +203,7 @@ void check_settings(const io::Job& job, const io::SimulationSettings& s,
                     "duration: {:.4g} s ({} revolutions) or more",
                     s.duration_s, what, needed_s,
                     static_cast<long long>(std::ceil(needed_s * process.spindle_rad_s / kTwoPi))));
+  return steps_per_tooth;
 }
 
 nlohmann::json per_axis(const simulation::ResponseMetrics& m, double scale,
@@ -221,11 +231,11 @@ CommandResult compute_simulate(const io::Job& job) {
   const auto start = std::chrono::steady_clock::now();
   const tool::Tool cutter(*job.tool);
   const simulation::LinearStructure structure = structure_of(job, s);
-  check_settings(job, s, structure, cutter);
+  const int steps_per_tooth = check_settings(job, s, structure, cutter);
 
   simulation::SimulationOptions run;
   run.duration_s = s.duration_s;
-  run.steps_per_tooth = s.steps_per_tooth;
+  run.steps_per_tooth = steps_per_tooth;
   run.axial_elements = s.axial_elements > 0
                            ? s.axial_elements
                            : cutting::default_axial_elements(cutter, job.process->axial_depth_m);
@@ -288,6 +298,7 @@ CommandResult compute_simulate(const io::Job& job) {
        std::vector<double>(frequencies.data(), frequencies.data() + frequencies.size())},
       {"duration_s", result.time_s.back()},
       {"step_s", result.step_s},
+      {"steps_per_tooth", steps_per_tooth},
       {"steps", static_cast<long long>(std::llround(result.time_s.back() / result.step_s))},
       {"axial_elements", run.axial_elements},
       {"steady_window_s", result.time_s.back() - metrics.steady_from_s},

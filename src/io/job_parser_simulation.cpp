@@ -123,6 +123,7 @@ void read_simulation(SectionReader& root, Job& job) {
     s.duration_s = r.integer("revolutions", 1, 10'000'000) * revolution_s;
   }
   s.steps_line = r.line_of("steps_per_tooth");
+  s.steps_per_tooth_given = r.has("steps_per_tooth");
   s.steps_per_tooth = r.integer_or("steps_per_tooth", 1, 100000, s.steps_per_tooth);
   s.axial_elements = r.integer_or("axial_elements", 1, 2000, 0);
   s.record_every = r.integer_or("record_every", 1, 1'000'000, 1);

@@ -331,7 +331,7 @@ constexpr Field kFields[] = {
   {"simulation", "model", K::choice, "", "modes, rigid, 1dof, 2dof, 3dof, reduced6d", "modes", "", "The structure: the job's dynamics, rigid (002 Case A), 002 Eq 32 (x), Eq 33 (x, y), x-y-z, or the reduced robot model of 002 Eq 23."},
   {"simulation", "duration", K::quantity, "s", "0 < t ≤ 3600 s", "", "one of duration, revolutions", "Simulated time."},
   {"simulation", "revolutions", K::integer, "", "1 … 10⁷", "", "one of duration, revolutions", "Spindle revolutions simulated."},
-  {"simulation", "steps_per_tooth", K::integer, "", "1 … 100 000", "40", "", "Integration steps per tooth period."},
+  {"simulation", "steps_per_tooth", K::integer, "", "1 … 100 000", "40, raised to what the job needs", "", "Integration steps per tooth period. Not given: 40, raised to 8 per period of the highest mode, 12 across the engaged arc and the process damping's limit (summary.json `steps_per_tooth`); given: exit 2 when coarser than those."},
   {"simulation", "axial_elements", K::integer, "", "1 … 2000", "as forces (helix lag ≤ 0.5° per element)", "", "Edge elements along the depth."},
   {"simulation", "fixation", K::map, "", "", "", "with model 1dof, 2dof, 3dof", "M, K, C of the fixation: see `simulation.fixation`."},
   {"simulation", "workpiece", K::map, "", "", "none (in the cut)", "", "The part's border: see `simulation.workpiece`."},

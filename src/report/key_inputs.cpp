@@ -170,7 +170,10 @@ std::string key_inputs_json(const io::Job& job) {
   if (job.simulation) {
     rows.add("simulation", "model", job.simulation->model_name);
     rows.add("simulation", "duration", with_unit(job.simulation->duration_s, "s"));
-    rows.add("simulation", "steps per tooth", std::to_string(job.simulation->steps_per_tooth));
+    rows.add("simulation", "steps per tooth",
+             job.simulation->steps_per_tooth_given
+                 ? std::to_string(job.simulation->steps_per_tooth)
+                 : "automatic (at least " + std::to_string(job.simulation->steps_per_tooth) + ")");
   }
   if (job.workpiece && job.workpiece->pose)
     rows.add("workpiece", "pose [xp, yp, θp]",

@@ -188,6 +188,9 @@ struct SimulationSettings {
   double duration_s = 0.0;                ///< `duration`, or `revolutions` converted
   std::string duration_key = "duration";  ///< the key the user gave it by
   int steps_per_tooth = 40;
+  /// false: `steps_per_tooth` not in the job — the command raises the
+  /// default to what the structure and the engaged arc need.
+  bool steps_per_tooth_given = false;
   int axial_elements = 0;  ///< 0: as `forces` (helix lag ≤ 0.5° per element)
   /// `workpiece.border` (or `workpiece_mesh.border`, DESIGN.md's name): gap
   /// between the cutter's leading edge and the part's straight border at
