@@ -324,7 +324,7 @@ constexpr Field kFields[] = {
   {"surface", "warmup", K::quantity, "s", "0 … 600 s", "3 decay times", "only with vibration, not with entry", "Simulated time before the first pass (a steady cut)."},
   {"surface", "entry", K::quantity, "mm", "≥ 0", "none", "only with vibration, not with warmup", "Every pass enters the part this far before the patch (the vibration restarts per pass)."},
   {"surface", "start", K::choice, "", "steady, rest", "steady", "only with vibration, not with warmup or entry", "`rest`: every pass's vibration starts from rest with the cut fully engaged — 001 §2.2.2's dde23 solution from a zero history, whose start-up transient imprints on the patch; `steady`: a steady cut."},
-  {"surface", "steps_per_tooth", K::integer, "", "1 … 100 000", "automatic (≥ 8 per period of the highest mode)", "only with vibration", "The vibration simulation's step."},
+  {"surface", "steps_per_tooth", K::integer, "", "1 … 100 000", "automatic (≥ 8 per period of the highest mode, 12 across the engaged arc)", "only with vibration", "The vibration simulation's step; exit 2 when coarser than the automatic one."},
   {"surface", "steps_per_revolution", K::integer, "", "1 … 10⁸", "001 Eq 30", "", "Z-map time steps per revolution."},
   {"surface", "edge_spacing", K::quantity, "mm", "> 0", "half a cell", "", "001 Eq 31's spacing ds of the discrete edge points."},
   // --- simulation
