@@ -29,9 +29,10 @@ grep -qi 'nan\|inf' "$WORK/s/summary.json" && fail "non-finite number written"
 h=$(awk -F': ' '/"max_residual_um"/ { gsub(/,/, "", $2); print $2 }' "$WORK/v/summary.json")
 awk -v v="$h" 'BEGIN { exit !(v > 7.8201 * 0.98 && v < 7.8201 * 1.02) }' || fail "scallop $h um"
 
-# 001 Eq 29: 20 um cells for fz = 25 um; the message names 400 cells.
-expect_exit2 "surface.grid (line" surface "$J" --set surface.grid=[100,100]
-expect_exit2 "use grid: [400, 400]" surface "$J" --set surface.grid=[100,100]
+# 001 Eq 29: at most min(fz, path interval) / 5 = 20 um cells (fz 0.25 mm,
+# path interval 0.1 mm); 40 um cells exit 2 naming 100 cells.
+expect_exit2 "surface.grid (line" surface "$J" --set surface.grid=[50,50]
+expect_exit2 "use grid: [100, 100]" surface "$J" --set surface.grid=[50,50]
 "$ROBOMILL" surface "$J" "${FAST[@]}" --set surface.grid=[25,25] --set surface.grid_rule=false \
   --out "$WORK/coarse" --quiet || fail "grid_rule: false should accept a coarse grid"
 # 001 Eq 30 and Eq 31.

@@ -4,8 +4,11 @@
 // KR270-class posture library). Every assumption is in the example files
 // and docs/surface.md.
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <initializer_list>
@@ -44,10 +47,12 @@ constexpr Table3 kTable3[] = {{"A", 5, 0.878, 1.103}, {"B", 5, 0.976, 1.407},
                               {"E", 7, 1.066, 1.527}, {"F", 7, 0.938, 1.465}};
 
 /// Our values next to Table 3's for every area of case `c`, into the
-/// validation report (not asserted): (quantity, compared with Rq rather than
-/// Ra, ours in um).
+/// validation report: (quantity, compared with Rq rather than Ra, ours in
+/// um). Asserted within the issue's "order of" (a factor of 3) when
+/// `asserted`.
 void record_table3(int c, const std::string& assumptions_after_file,
-                   std::initializer_list<std::tuple<const char*, bool, double>> rows) {
+                   std::initializer_list<std::tuple<const char*, bool, double>> rows,
+                   bool asserted) {
   for (const Table3& t : kTable3) {
     if (t.case_number != c)
       continue;
@@ -56,85 +61,81 @@ void record_table3(int c, const std::string& assumptions_after_file,
     for (const auto& [quantity, against_rq, ours_um] : rows) {
       const double paper_um = against_rq ? t.rq_um : t.ra_um;
       const double ratio = ours_um / paper_um;
+      const bool within = ratio > 1.0 / 3.0 && ratio < 3.0;
+      if (asserted) {
+        EXPECT_TRUE(within) << item << " " << quantity << ": ours " << ours_um << " um, paper "
+                            << paper_um << " um";
+      }
       test::record_validation({"001", item, quantity, "um", test::sig4(paper_um),
                                test::sig4(ours_um), test::labelled("x", ratio), "x1/3 ... x3",
-                               ratio > 1.0 / 3.0 && ratio < 3.0,
+                               within,
                                "examples/001_case_" + std::to_string(c) + assumptions_after_file});
     }
   }
 }
 
+/// The nine Table 2 cases on the paper's 100 x 100 grid, which satisfies
+/// 001 Eq 29 under our reading of Table 2's feed (3000 mm/min, see the
+/// examples); cases 5 and 7 next to Table 3.
 TEST(Paper001Surface, Table2CasesNextToTable3) {
   for (int c = 1; c <= 9; ++c) {
-    // The paper's own 100 x 100 grid (which breaks its Eq 29, see the
-    // examples) and the example's Eq 29 grid for the cases Table 3 reports.
-    const io::Job paper =
-        io::load_job(example(c), {{"surface.grid", "[100, 100]"}, {"surface.grid_rule", "false"}});
-    const io::SurfaceRun coarse = io::run_surface_job(paper, 0);
-    const double ra = coarse.roughness.stepover.ra_m * 1e6,
-                 rq = coarse.roughness.stepover.rq_m * 1e6;
+    const io::SurfaceRun run = io::run_surface_job(io::load_job(example(c)), 0);
+    const surface::ZMapGrid& grid = run.zmap.map.grid;
+    EXPECT_LE(std::max(grid.dx(), grid.dy()), run.rules.max_cell_m * (1.0 + 1e-9))
+        << "case " << c << ": the paper's grid within Eq 29";
+    const double ra = run.roughness.stepover.ra_m * 1e6, rq = run.roughness.stepover.rq_m * 1e6;
     EXPECT_GT(ra, 0.0);
     EXPECT_GE(rq, ra);
-    // Kinematics alone give the scallop of the 0.1 mm path interval (0.31 um
-    // high, Ra ~0.08 um); the surface may not be smoother than that.
-    EXPECT_GT(ra, 0.05);
-    EXPECT_LT(ra, 3.0);
+    EXPECT_FALSE(run.vibration->verdict.chatter) << "case " << c << " (001 §3.2: stable cuts)";
     std::printf(
-        "[validation] 001 case %d (100x100 grid, vibration): Ra %.3f um, Rq %.3f um, Sa %.3f "
-        "um, max residual %.3f um\n",
-        c, ra, rq, coarse.roughness.sa_m * 1e6, coarse.roughness.max_residual_m * 1e6);
-    if (c == 5 || c == 7) {
-      const io::SurfaceRun fine = io::run_surface_job(io::load_job(example(c)), 0);
-      const double fra = fine.roughness.stepover.ra_m * 1e6;
-      const double frq = fine.roughness.stepover.rq_m * 1e6;
-      for (const Table3& t : kTable3)
-        if (t.case_number == c)
-          std::printf(
-              "[validation] 001 Table 3 area %s (case %d): paper Ra %.3f um, Rq %.3f um; "
-              "ours (Eq 29 grid) Ra %.3f um, Rq %.3f um = %.2fx, %.2fx the paper; "
-              "tolerance 'order of magnitude' (factor 3): %s\n",
-              t.area, c, t.ra_um, t.rq_um, fra, frq, fra / t.ra_um, frq / t.rq_um,
-              fra > t.ra_um / 3 && fra < 3 * t.ra_um ? "within" : "NOT within");
-      // Into the validation report, not asserted: our surfaces are the
-      // kinematic scallop plus a stable cut's small vibration (docs/surface.md).
-      record_table3(c,
-                    "_surface.yaml: Eq 29 grid, vibration of its assumed modes in a steady "
-                    "stable cut, runout angle 0, no axial runout; not asserted (docs/surface.md)",
-                    {{"Ra across the passes", false, fra}, {"Rq across the passes", true, frq}});
-      // 001 §3.3: "in the feed direction, the texture interval is roughly
-      // four times larger compared to the scenario without tool vibration"
-      // (which is fz). Ours: one revolution's feed (the runout), as without
-      // vibration — the stable cut's vibration is locked to the spindle.
-      const double texture_fz = fine.roughness.feed_texture_interval_m / fine.path.feed_per_tooth_m;
-      test::record_validation(
-          {"001",
-           "§3.3, Fig. " + std::string(c == 5 ? "16" : "17") + " (case " + std::to_string(c) + ")",
-           "texture interval along the feed with vibration", "fz", "~4", test::sig4(texture_fz),
-           test::labelled("x", texture_fz / 4.0), "x0.75 ... x1.25",
-           texture_fz > 3.0 && texture_fz < 5.0,
-           "examples/001_case_" + std::to_string(c) +
-               "_surface.yaml, Eq 29 grid; the wavelength of the feed lines' largest spectral "
-               "peak; 2 fz is the runout's once-per-revolution mark; not asserted"});
-      // 001 §2.2.2's own reading: dde23 from a zero history, every pass
-      // starting at rest fully engaged, so the start-up transient of the
-      // robot modes imprints on the patch (surface.start: rest).
-      const io::SurfaceRun rest =
-          io::run_surface_job(io::load_job(example(c), {{"surface.start", "rest"}}), 0);
-      const double rest_feed_ra = rest.roughness.feed.ra_m * 1e6,
-                   rest_sa = rest.roughness.sa_m * 1e6;
-      std::printf(
-          "[validation] 001 case %d, start: rest (Eq 29 grid): Ra along the feed %.3f um, "
-          "across %.3f um, Sa %.3f um, Sz %.3f um\n",
-          c, rest_feed_ra, rest.roughness.stepover.ra_m * 1e6, rest_sa, rest.roughness.sz_m * 1e6);
-      // The start-up transient adds non-periodic height (Sa 0.093 vs 0.080
-      // um in case 5): not smoother than the steady cut.
-      EXPECT_GT(rest_sa, fine.roughness.sa_m * 1e6);
-      record_table3(c,
-                    "_surface.yaml with start: rest (001's dde23 from a zero history, each "
-                    "pass), Eq 29 grid; not asserted (docs/surface.md)",
-                    {{"Ra along the feed, start: rest", false, rest_feed_ra},
-                     {"Sa, start: rest", false, rest_sa}});
-    }
+        "[validation] 001 case %d (100x100 grid, vibration): Ra %.3f um, Rq %.3f um (along the "
+        "feed %.3f, %.3f), Sa %.3f um, Sz %.3f um, texture interval %.2f fz\n",
+        c, ra, rq, run.roughness.feed.ra_m * 1e6, run.roughness.feed.rq_m * 1e6,
+        run.roughness.sa_m * 1e6, run.roughness.sz_m * 1e6,
+        run.roughness.feed_texture_interval_m / run.path.feed_per_tooth_m);
+    if (c != 5 && c != 7)
+      continue;
+    for (const Table3& t : kTable3)
+      if (t.case_number == c)
+        std::printf(
+            "[validation] 001 Table 3 area %s (case %d): paper Ra %.3f um, Rq %.3f um; ours Ra "
+            "%.3f um, Rq %.3f um = %.2fx, %.2fx the paper (tolerance: a factor of 3)\n",
+            t.area, c, t.ra_um, t.rq_um, ra, rq, ra / t.ra_um, rq / t.rq_um);
+    record_table3(c,
+                  ": feed 3000 mm/min (Table 2 read as in the example), the paper's 100 x 100 "
+                  "grid, assumed robot modes, steady stable cut, runout angle 0, no axial "
+                  "runout; the passes' phases are not aligned (Ra across the passes = along "
+                  "the feed)",
+                  {{"Ra across the passes", false, ra}, {"Rq across the passes", true, rq}}, true);
+    // The other reading of Table 2's feed (300 mm/min, fz ten times
+    // smaller) on its Eq 29 grid: the 0.1 mm scallop alone. Recorded, not
+    // asserted.
+    const double fz_300 = run.path.feed_per_tooth_m / 10.0;
+    const int cells = static_cast<int>(std::ceil(2e-3 / (std::min(fz_300, 0.1e-3) / 5.0) - 1e-9));
+    const io::SurfaceRun slow = io::run_surface_job(
+        io::load_job(example(c), {{"process.feed_rate", "300 mm/min"},
+                                  {"surface.grid", fmt::format("[{0}, {0}]", cells)}}),
+        0);
+    record_table3(
+        c,
+        " with feed 300 mm/min (the other reading of Table 2) on its Eq 29 grid: "
+        "the 0.1 mm scallop alone; not asserted (docs/surface.md)",
+        {{"Ra across the passes, feed 300 mm/min", false, slow.roughness.stepover.ra_m * 1e6}},
+        false);
+    // 001 §3.3: "in the feed direction, the texture interval is roughly
+    // four times larger compared to the scenario without tool vibration"
+    // (which is fz). Ours: fz or one revolution's feed (the runout), as
+    // without vibration — the stable cut's vibration is locked to the spindle.
+    const double texture_fz = run.roughness.feed_texture_interval_m / run.path.feed_per_tooth_m;
+    test::record_validation(
+        {"001",
+         "§3.3, Fig. " + std::string(c == 5 ? "16" : "17") + " (case " + std::to_string(c) + ")",
+         "texture interval along the feed with vibration", "fz", "~4", test::sig4(texture_fz),
+         test::labelled("x", texture_fz / 4.0), "x0.75 ... x1.25",
+         texture_fz > 3.0 && texture_fz < 5.0,
+         "examples/001_case_" + std::to_string(c) +
+             "_surface.yaml; the wavelength of the feed lines' largest spectral peak; 1 fz: the "
+             "feed marks, 2 fz: the runout's once-per-revolution marks; not asserted"});
   }
 }
 
@@ -159,12 +160,11 @@ io::Job area_job(const char* at, const char* start) {
 /// C)". What is asserted is what the model guarantees: the interpolated
 /// robot softens away from the base (lower first mode, larger static
 /// deflection) and the cut stays stable, its vibration locked to the
-/// spindle. The surface barely feels that: a steady vibration prints nearly
-/// the same on every tooth, and the tool modes' lateral vibration (4-5 kHz,
-/// 9 um peak to peak) even lowers the cusps slightly. The residual height
-/// (Sz) and Sa are printed and recorded next to 001's trend, not asserted
-/// (docs/surface.md). 001's reading of the vibration (start: rest, dde23 from
-/// a zero history) is printed too.
+/// spindle. The surface barely feels that — a steady vibration prints nearly
+/// the same on every tooth — so the residual height (Sz) is printed and
+/// recorded next to 001's trend, not asserted (docs/surface.md). 001's
+/// reading of the vibration (start: rest, dde23 from a zero history) is
+/// printed too.
 TEST(Paper001Surface, PostureDependentVibration) {
   const char* postures[] = {"[0, 17.377, 26.257, 0, 46.366, 0]",   // tool at x = 1650 mm
                             "[0, 25.995, 13.011, 0, 50.994, 0]",   // 1900 mm
