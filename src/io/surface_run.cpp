@@ -101,7 +101,10 @@ SurfaceVibration simulate_vibration(const Job& job, const SurfaceSettings& s,
     if (zeta > 0.0)
       slowest_decay_s = std::max(slowest_decay_s, 1.0 / (zeta * omega));
   }
-  // The raster's engagement (see below) on its narrowest arc.
+  // The raster's engagement: the previous pass's groove leaves a strip one
+  // step-over wide at every height, so each disk of the edge cuts a crescent
+  // of radial depth `stepover` (Workpiece::raster_groove), down to the tip.
+  // The step must resolve its narrowest arc.
   cutting::MillingProcess raster = process;
   raster.radial_depth_m = s.stepover_m;
   simulation::Workpiece part;
@@ -132,9 +135,6 @@ SurfaceVibration simulate_vibration(const Job& job, const SurfaceSettings& s,
                      fmt::format("the simulation would take {:.3g} steps (limit 2e8); shorten the "
                                  "warmup, the patch or steps_per_tooth",
                                  steps));
-  // The raster's engagement: the previous pass's groove leaves a strip one
-  // step-over wide at every height, so each disk of the edge cuts a crescent
-  // of radial depth `stepover` (Workpiece::raster_groove), down to the tip.
   simulation::SimulationOptions options;
   options.duration_s = run.duration_s;
   options.steps_per_tooth = run.steps_per_tooth;
