@@ -1,6 +1,7 @@
 #include "robomill/cutting/milling_forces.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -29,6 +30,65 @@ void check_process(const tool::Tool& tool, const MillingProcess& process) {
 
 }  // namespace
 
+namespace {
+
+// The slice of a general engagement holding height z (the last one above it).
+std::size_t slice_of(const GeneralEngagement& engagement, double height_m) {
+  const auto& tops = engagement.slice_top_m;
+  const auto it = std::lower_bound(tops.begin(), tops.end(), height_m);
+  return it == tops.end() ? tops.size() - 1 : static_cast<std::size_t>(it - tops.begin());
+}
+
+// The widest slice's arcs stand for the engagement in summaries and in the
+// size-dependent law's mean chip thickness (004 Eq A3 over several arcs:
+// fz Σ (cos φst − cos φex) / Σ (φex − φst)).
+struct WidestSlice {
+  Engagement span;
+  double mean_chip_m = 0.0;
+};
+
+WidestSlice widest_slice(const GeneralEngagement& engagement) {
+  WidestSlice widest;
+  double widest_rad = 0.0;
+  for (const std::vector<Engagement>& arcs : engagement.arcs) {
+    double engaged_rad = 0.0, projected = 0.0;
+    for (const Engagement& arc : arcs) {
+      engaged_rad += arc.exit_rad - arc.entry_rad;
+      projected += std::cos(arc.entry_rad) - std::cos(arc.exit_rad);
+    }
+    if (engaged_rad > widest_rad && !arcs.empty()) {
+      widest_rad = engaged_rad;
+      widest.span = {arcs.front().entry_rad, arcs.back().exit_rad};
+      widest.mean_chip_m = engagement.feed_per_tooth_m * std::abs(projected) / engaged_rad;
+    }
+  }
+  return widest;
+}
+
+MillingProcess general_process(const tool::Tool& tool, const GeneralEngagement& engagement) {
+  auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
+  if (!positive(engagement.spindle_rad_s))
+    throw std::invalid_argument("spindle speed must be positive");
+  if (!(std::isfinite(engagement.feed_per_tooth_m) && engagement.feed_per_tooth_m >= 0.0) ||
+      !std::isfinite(engagement.axial_feed_per_tooth_m))
+    throw std::invalid_argument("feed per tooth must be finite, its lateral part non-negative");
+  if (!positive(engagement.axial_depth_m))
+    throw std::invalid_argument("axial depth must be positive");
+  if (engagement.slice_top_m.empty() || engagement.arcs.size() != engagement.slice_top_m.size())
+    throw std::invalid_argument("a general engagement needs one list of arcs per slice");
+  MillingProcess process;
+  process.spindle_rad_s = engagement.spindle_rad_s;
+  process.feed_per_tooth_m = engagement.feed_per_tooth_m;
+  process.axial_depth_m = engagement.axial_depth_m;
+  const Engagement span = widest_slice(engagement).span;
+  process.radial_depth_m =
+      std::min(tool.diameter_m(), tool.radius_m() * std::abs(std::cos(span.entry_rad) -
+                                                             std::cos(span.exit_rad)));
+  return process;
+}
+
+}  // namespace
+
 MillingForceModel::MillingForceModel(const tool::Tool& tool, const CuttingLaw& law,
                                      const MillingProcess& process, int axial_elements)
     : tool_(tool),
@@ -41,23 +101,55 @@ MillingForceModel::MillingForceModel(const tool::Tool& tool, const CuttingLaw& l
                                             process.radial_depth_m, process.direction)),
       mean_chip_m_(mean_chip_thickness_m(process.feed_per_tooth_m, nominal_engagement_)),
       elements_(tool::discretize_edge(tool, process.axial_depth_m, axial_elements)) {
-  const int teeth = tool.teeth();
+  // A straight band: one arc per element (cutting/engagement.hpp).
+  build([&](const tool::EdgeElement& element) {
+    return std::array<Engagement, 1>{radial_engagement(tool.radius_m(), element.radius_m,
+                                                       process.radial_depth_m, process.direction)};
+  });
+}
+
+MillingForceModel::MillingForceModel(const tool::Tool& tool, const CuttingLaw& law,
+                                     const GeneralEngagement& engagement, int axial_elements)
+    : tool_(tool),
+      process_(general_process(tool, engagement)),
+      law_(law, widest_slice(engagement).mean_chip_m),
+      nominal_engagement_(widest_slice(engagement).span),
+      mean_chip_m_(widest_slice(engagement).mean_chip_m),
+      elements_(tool::discretize_edge(tool, engagement.axial_depth_m, axial_elements)) {
+  build([&](const tool::EdgeElement& element) -> const std::vector<Engagement>& {
+    return engagement.arcs[slice_of(engagement, element.height_m)];
+  });
+  // The axial feed's share of the chip, divided by sin κ (see at()).
+  for (std::size_t e = 0; e < elements_.size(); ++e) {
+    const double sin_kappa = element_sin_kappa_[e];
+    element_axial_chip_m_[e] = sin_kappa > 0.0 ? -engagement.axial_feed_per_tooth_m *
+                                                     element_cos_kappa_[e] / sin_kappa
+                                               : 0.0;
+  }
+}
+
+template <class ArcsOfElement>
+void MillingForceModel::build(ArcsOfElement&& element_arcs) {
+  const int teeth = tool_.teeth();
   pairs_.reserve(elements_.size() * static_cast<std::size_t>(teeth));
   radius_steps_m_.reserve(pairs_.capacity() * static_cast<std::size_t>(teeth));
+  element_axial_chip_m_.assign(elements_.size(), 0.0);
+  element_arc_begin_.reserve(elements_.size() + 1);
   for (const tool::EdgeElement& element : elements_) {
     // Cylindrical edges get exact sin κ = 1, cos κ = 0 (cos(π/2) in floating
     // point is 6e-17 and would leak a spurious axial force).
     const bool cylindrical = element.kappa_rad == 0.5 * std::numbers::pi;
     element_sin_kappa_.push_back(cylindrical ? 1.0 : std::sin(element.kappa_rad));
     element_cos_kappa_.push_back(cylindrical ? 0.0 : std::cos(element.kappa_rad));
-    const Engagement engagement = radial_engagement(tool.radius_m(), element.radius_m,
-                                                    process.radial_depth_m, process.direction);
+    element_arc_begin_.push_back(static_cast<int>(arcs_.size()));
+    for (const Engagement& arc : element_arcs(element)) {
+      if (!arc.empty())
+        arcs_.push_back(arc);
+    }
     for (int j = 0; j < teeth; ++j) {
       ElementTooth pair{};
-      pair.angle_offset_rad = tool.pitch_angle_rad(j) - element.lag_rad;
-      pair.entry_rad = engagement.entry_rad;
-      pair.exit_rad = engagement.exit_rad;
-      const double radius_j = tool.edge_radius_with_runout_m(j, element.height_m);
+      pair.angle_offset_rad = tool_.pitch_angle_rad(j) - element.lag_rad;
+      const double radius_j = tool_.edge_radius_with_runout_m(j, element.height_m);
       pair.lever_m = radius_j;
       pair.min_offset_index = static_cast<int>(radius_steps_m_.size());
       // r_j − r_{j+i}: how much further tooth j reaches than the tooth that cut
@@ -68,11 +160,12 @@ MillingForceModel::MillingForceModel(const tool::Tool& tool, const CuttingLaw& l
       for (int i = 1; i <= teeth; ++i) {
         const int earlier = (j + i) % teeth;
         radius_steps_m_.push_back(radius_j -
-                                  tool.edge_radius_with_runout_m(earlier, element.height_m));
+                                  tool_.edge_radius_with_runout_m(earlier, element.height_m));
       }
       pairs_.push_back(pair);
     }
   }
+  element_arc_begin_.push_back(static_cast<int>(arcs_.size()));
 }
 
 double MillingForceModel::tooth_period_s() const noexcept {
@@ -84,22 +177,30 @@ ToolLoad MillingForceModel::at(double rotation_rad) const noexcept {
   const double feed = process_.feed_per_tooth_m;
   double fx = 0.0, fy = 0.0, fz = 0.0, torque = 0.0;
   for (std::size_t e = 0; e < elements_.size(); ++e) {
+    const Engagement* arcs_begin = arcs_.data() + element_arc_begin_[e];
+    const Engagement* arcs_end = arcs_.data() + element_arc_begin_[e + 1];
+    if (arcs_begin == arcs_end)
+      continue;  // this slice of the edge is in air
     const double sin_kappa = element_sin_kappa_[e];
     const double cos_kappa = element_cos_kappa_[e];
+    const double axial_chip = element_axial_chip_m_[e];
     const double width = elements_[e].chip_width_m;
     for (int j = 0; j < teeth; ++j) {
       const ElementTooth& pair = pairs_[e * static_cast<std::size_t>(teeth) + j];
       const double phi = wrap_angle_rad(rotation_rad + pair.angle_offset_rad);
-      if (phi < pair.entry_rad || phi > pair.exit_rad)
-        continue;  // g = 0 (000 Eq 12)
+      bool engaged = false;  // g of 000 Eq 12, over every arc of the element
+      for (const Engagement* arc = arcs_begin; arc != arcs_end && !engaged; ++arc)
+        engaged = phi >= arc->entry_rad && phi <= arc->exit_rad;
+      if (!engaged)
+        continue;
       const double sin_phi = std::sin(phi);
       const double cos_phi = std::cos(phi);
       double chip = std::numeric_limits<double>::infinity();
       const double* steps = &radius_steps_m_[static_cast<std::size_t>(pair.min_offset_index)];
       for (int i = 1; i <= teeth; ++i) {
-        chip = std::min(chip, i * feed * sin_phi + steps[i - 1]);
+        chip = std::min(chip, i * (feed * sin_phi + axial_chip) + steps[i - 1]);
       }
-      chip *= sin_kappa;  // 001 Eq 14: h = fz sin φ sin κ
+      chip *= sin_kappa;  // 001 Eq 14: h = fz sin φ sin κ (axial_chip: see the constructor)
       const EdgeForce f = law_(chip, width);
       // 001 Eq 11 (Altintas' ball-end projection; κ = π/2 gives 002 Eq 29).
       fx += -f.tangential_n * cos_phi - f.radial_n * sin_kappa * sin_phi -

@@ -20,6 +20,21 @@ struct ToolLoad {
   double torque_nm = 0.0;  ///< about +z; positive resists the cutting rotation
 };
 
+/// Where the edge is in material when the workpiece is not a straight band:
+/// the engaged arcs of each axial element (the cutter-workpiece engagement
+/// along a program, toolpath/cutter_engagement.hpp), and the feed per tooth
+/// split into its part normal to the tool axis (along tool x) and along it.
+struct GeneralEngagement {
+  double spindle_rad_s = 0.0;
+  double feed_per_tooth_m = 0.0;        ///< normal to the axis, along tool x
+  double axial_feed_per_tooth_m = 0.0;  ///< along +z (towards the spindle); < 0 plunging
+  /// The edge from the tip up to this height is discretized (ap).
+  double axial_depth_m = 0.0;
+  /// Engaged arcs at height z above the tip: `arcs_at(z)` returns them.
+  std::vector<double> slice_top_m;           ///< upper end of each slice, increasing
+  std::vector<std::vector<Engagement>> arcs;  ///< per slice, each arc in [0, 2π)
+};
+
 /// A cutter, a law and a process, precomputed for fast evaluation at any
 /// rotation angle. Immutable after construction; `at()` is thread-safe and
 /// allocation-free.
@@ -29,6 +44,17 @@ class MillingForceModel {
   /// (ae > D, ap > overhang, non-positive feed, ...).
   MillingForceModel(const tool::Tool& tool, const CuttingLaw& law, const MillingProcess& process,
                     int axial_elements);
+
+  /// The same mechanism on an arbitrary engagement: each element cuts where
+  /// its slice's arcs say, and the chip of 001 Eq 14 gains the axial feed's
+  /// share on a ball nose, h = i (fz sin φ sin κ − fz,axial cos κ) (Lazoglu's
+  /// ball-end chip for a feed with an axial component). A straight band
+  /// given as arcs reproduces the constructor above (tests/toolpath). The
+  /// law's mean chip thickness (size-dependent law) is taken over the arcs
+  /// of the widest slice. Throws std::invalid_argument for a non-positive
+  /// speed or depth, or a negative lateral feed.
+  MillingForceModel(const tool::Tool& tool, const CuttingLaw& law,
+                    const GeneralEngagement& engagement, int axial_elements);
 
   /// Load at tool rotation angle ϕ (tooth 0's tip is at φ = ϕ).
   ///   φ_{j,k} = ϕ + φp_j − ψ_k                      (000 Eq 10, 001 Eq 1-3)
@@ -54,10 +80,14 @@ class MillingForceModel {
  private:
   struct ElementTooth {       // one (element, tooth) pair, precomputed
     double angle_offset_rad;  // φp_j − ψ_k
-    double entry_rad, exit_rad;
-    double lever_m;        // radius for the torque, with runout
-    int min_offset_index;  // into radius_steps_: N entries (i = 1..N)
+    double lever_m;           // radius for the torque, with runout
+    int min_offset_index;     // into radius_steps_: N entries (i = 1..N)
   };
+
+  // Fills elements_' per-element data and the (element, tooth) pairs; the
+  // element's arcs are `element_arcs(e)`.
+  template <class ArcsOfElement>
+  void build(ArcsOfElement&& element_arcs);
 
   tool::Tool tool_;
   MillingProcess process_;
@@ -68,6 +98,11 @@ class MillingForceModel {
   std::vector<ElementTooth> pairs_;     // element-major
   std::vector<double> radius_steps_m_;  // r_j − r_{j−i}
   std::vector<double> element_sin_kappa_, element_cos_kappa_;
+  // −fz,axial cot κ per element: the axial feed's share of the chip divided by
+  // sin κ (0 on cylindrical edges and without axial feed).
+  std::vector<double> element_axial_chip_m_;
+  std::vector<Engagement> arcs_;     // every element's arcs, element-major
+  std::vector<int> element_arc_begin_;  // element e's arcs: [begin[e], begin[e + 1])
 };
 
 /// Axial elements that resolve the helix lag to 0.5° per element (at least 40
