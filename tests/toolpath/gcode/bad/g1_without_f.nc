@@ -1,0 +1,7 @@
+%
+(NO FEED YET)
+G90 G94 G17 G21
+G0 X0. Y0. Z5.
+G1 Z-1.
+M30
+%

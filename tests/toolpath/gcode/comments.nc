@@ -1,0 +1,15 @@
+%
+(PROGRAM WITH COMMENTS OF BOTH KINDS)
+; a semicolon comment line
+G90 G94 G17 G21 (MODAL PREAMBLE) ; trailing note
+T1 M6 (LOAD TOOL 1)
+S5000 M3 ; spindle on
+G0 X5. (APPROACH) Y5. Z5.
+G1 Z-1. F200. (PLUNGE)
+(A WHOLE LINE OF COMMENT)
+G1 X25. F600. ; cut
+Y15. (CUT) ; cut again
+G0 Z5.
+M5
+M30
+%
