@@ -6,6 +6,7 @@ BUILD       ?= build
 ASAN_BUILD  ?= build-asan
 FUZZ_SECONDS ?= 60
 FUZZ_FRF_SECONDS ?= 30
+FUZZ_PROGRAM_SECONDS ?= 20
 
 .PHONY: all setup build demo docs test test-release sanitize-build test-sanitize fuzz bench format clean
 
@@ -66,7 +67,8 @@ test-sanitize: sanitize-build
 	cd $(ASAN_BUILD) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
 	  ctest --output-on-failure -j$(JOBS) -E '$(SANITIZE_SKIP)'
 
-# libFuzzer on the job parser and the FRF readers, seeded from fuzz/corpus*; any crash fails.
+# libFuzzer on the job parser, the FRF readers and the program readers (G-code,
+# APT CL, KRL), seeded from fuzz/corpus*; any crash fails.
 fuzz: sanitize-build
 	mkdir -p $(ASAN_BUILD)/corpus-run $(ASAN_BUILD)/corpus-frf-run
 	@echo "fuzz: job parser for $(FUZZ_SECONDS) s (log: $(ASAN_BUILD)/fuzz.log)"
@@ -81,6 +83,15 @@ fuzz: sanitize-build
 	  $(ASAN_BUILD)/corpus-frf-run fuzz/corpus-frf > $(ASAN_BUILD)/fuzz-frf.log 2>&1 \
 	  || { tail -40 $(ASAN_BUILD)/fuzz-frf.log; echo "fuzz: FAILED (crash, leak or hang; reproducer in $(ASAN_BUILD)/)"; exit 1; }
 	@grep -E '^(Done|stat::number_of_executed_units|stat::peak_rss_mb)' $(ASAN_BUILD)/fuzz-frf.log
+	@for reader in gcode apt krl; do \
+	  echo "fuzz: $$reader reader for $(FUZZ_PROGRAM_SECONDS) s (log: $(ASAN_BUILD)/fuzz-$$reader.log)"; \
+	  mkdir -p $(ASAN_BUILD)/corpus-$$reader-run; \
+	  ./$(ASAN_BUILD)/fuzz/fuzz_$${reader}_reader -dict=fuzz/$$reader.dict -max_total_time=$(FUZZ_PROGRAM_SECONDS) \
+	    -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix=$(ASAN_BUILD)/ \
+	    $(ASAN_BUILD)/corpus-$$reader-run fuzz/corpus-$$reader > $(ASAN_BUILD)/fuzz-$$reader.log 2>&1 \
+	    || { tail -40 $(ASAN_BUILD)/fuzz-$$reader.log; echo "fuzz: FAILED (crash, leak or hang; reproducer in $(ASAN_BUILD)/)"; exit 1; }; \
+	  grep -E '^(Done|stat::number_of_executed_units|stat::peak_rss_mb)' $(ASAN_BUILD)/fuzz-$$reader.log; \
+	done
 
 bench: build
 	for b in $(BUILD)/bench/bench_*; do $$b --benchmark_min_time=0.2; done

@@ -30,6 +30,10 @@ struct CommandResult {
   std::vector<std::pair<std::string, nlohmann::json>> documents;
   /// Other files by full name ("modes.yaml", "frf.uff"); always written.
   std::vector<std::pair<std::string, std::string>> texts;
+  /// Files the computation already streamed to a hidden temporary in the
+  /// output folder (`samples.csv` of a whole program), by final name; renamed
+  /// into place with the rest when output.csv is on, removed otherwise.
+  std::vector<std::pair<std::string, std::filesystem::path>> streamed;
   /// summary.json; written when output.json is on.
   nlohmann::json summary;
   /// What the command prints (unless --quiet) before its "written to" line.
@@ -88,6 +92,12 @@ CommandResult compute_deflection(io::Job job, int threads);
 CommandResult compute_optimize(const io::Job& job, int threads);
 CommandResult compute_advise(const io::Job& job, int threads);
 CommandResult compute_surface(const io::Job& job, int threads);
+/// With `samples_file` the samples stream into that file (the result's
+/// `streamed` names it) so memory does not grow with the program; without,
+/// they are the table "samples". `progress`: a bar on a terminal's stderr.
+CommandResult compute_toolpath(const io::Job& job, int threads,
+                               const std::filesystem::path& samples_file = {},
+                               bool progress = false);
 
 int run_forces(const JobCommandOptions& options);
 int run_stability(const JobCommandOptions& options);
@@ -98,6 +108,7 @@ int run_optimize(const JobCommandOptions& options);
 int run_advise(const JobCommandOptions& options);
 int run_simulate(const JobCommandOptions& options);
 int run_surface(const JobCommandOptions& options);
+int run_toolpath(const JobCommandOptions& options);
 
 struct IdentifyOptions {
   std::filesystem::path data_file;

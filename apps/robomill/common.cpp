@@ -50,6 +50,14 @@ void write_result(const std::filesystem::path& out, const io::OutputSettings& ou
   }
   for (const auto& [name, text] : result.texts)
     bundle.add(name, text);
+  for (const auto& [name, temporary] : result.streamed) {
+    if (output.csv) {
+      bundle.adopt(name, temporary);
+    } else {
+      std::error_code ignored;
+      std::filesystem::remove(temporary, ignored);
+    }
+  }
   if (output.json) {
     for (const auto& [name, document] : result.documents)
       bundle.add(name + ".json", io::summary_text(document));
@@ -106,6 +114,8 @@ std::vector<std::string> job_sections(const io::Job& job) {
   add(job.optimize.has_value(), "optimize");
   add(job.advise.has_value(), "advise");
   add(job.atlas.has_value(), "atlas");
+  add(job.toolpath.has_value(), "toolpath");
+  add(job.stock.has_value(), "stock");
   return sections;
 }
 

@@ -108,6 +108,14 @@ int run(int argc, char** argv, int rank, int ranks) {
       "summary.json",
       surface_options);
 
+  robomill::app::JobCommandOptions toolpath_options;
+  CLI::App* toolpath_command = add_job_command(
+      app, "toolpath",
+      "the program the cell runs (G-code, APT CL, KUKA KRL) over a tri-dexel stock: engagement, "
+      "forces, torque and power at every sample → samples.csv, moves.csv, stock.csv, "
+      "summary.json",
+      toolpath_options);
+
   robomill::app::JobCommandOptions advise_options;
   CLI::App* advise = add_job_command(
       app, "advise",
@@ -253,6 +261,8 @@ int run(int argc, char** argv, int rank, int ranks) {
       return robomill::app::run_advise(advise_options);
     if (surface_command->parsed())
       return robomill::app::run_surface(surface_options);
+    if (toolpath_command->parsed())
+      return robomill::app::run_toolpath(toolpath_options);
     if (identify_stiffness->parsed())
       return robomill::app::run_identify_stiffness(stiffness_options);
     if (frf->parsed())

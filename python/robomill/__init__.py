@@ -48,6 +48,7 @@ __all__ = [
     "simulate",
     "stability",
     "surface",
+    "toolpath",
 ]
 __version__ = "0.1.0"
 
@@ -238,6 +239,14 @@ def surface(job, threads: int = 0, out: Optional[PathLike] = None) -> dict:
     """``robomill surface``: the Z-map surface (001) → "surface" (x_mm, y_mm, z_um
     nodes), "profiles", "surface.bmp" (bytes) and the roughness in "summary"."""
     return _result(_robomill.surface(_job(job), _threads(threads), _out(out)))
+
+
+def toolpath(job, threads: int = 0, out: Optional[PathLike] = None) -> dict:
+    """``robomill toolpath``: the program over the stock → "samples" (one NumPy
+    array per column of samples.csv; "motion" a list of words), "moves",
+    "stock" (the final height map), "samples_preview" and the totals in
+    "summary" (cutting_time_s, volume_removed_mm3, max_force_N, ...)."""
+    return _result(_robomill.toolpath(_job(job), _threads(threads), _out(out)))
 
 
 def frf(job, from_: str = "", to: str = "", step: str = "", spacing: str = "linear",

@@ -240,6 +240,16 @@ PYBIND11_MODULE(_robomill, m) {
   job_command("advise", robomill::app::compute_advise);
   job_command("surface", robomill::app::compute_surface);
   m.def(
+      "toolpath",
+      [](const JobHandle& handle, int threads, const Out& out) {
+        const robomill::io::Job& job = job_of(handle);
+        // In memory: the samples come back as arrays (the command line
+        // streams them to samples.csv instead).
+        return run([&] { return robomill::app::compute_toolpath(job, threads); }, out,
+                   job.output, &job);
+      },
+      py::arg("job"), py::arg("threads") = 0, py::arg("out") = py::none());
+  m.def(
       "deflection",
       [](const JobHandle& handle, int threads, const Out& out) {
         const robomill::io::Job& job = job_of(handle);

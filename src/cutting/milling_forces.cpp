@@ -82,8 +82,8 @@ MillingProcess general_process(const tool::Tool& tool, const GeneralEngagement& 
   process.axial_depth_m = engagement.axial_depth_m;
   const Engagement span = widest_slice(engagement).span;
   process.radial_depth_m =
-      std::min(tool.diameter_m(), tool.radius_m() * std::abs(std::cos(span.entry_rad) -
-                                                             std::cos(span.exit_rad)));
+      std::min(tool.diameter_m(),
+               tool.radius_m() * std::abs(std::cos(span.entry_rad) - std::cos(span.exit_rad)));
   return process;
 }
 
@@ -122,9 +122,9 @@ MillingForceModel::MillingForceModel(const tool::Tool& tool, const CuttingLaw& l
   // The axial feed's share of the chip, divided by sin κ (see at()).
   for (std::size_t e = 0; e < elements_.size(); ++e) {
     const double sin_kappa = element_sin_kappa_[e];
-    element_axial_chip_m_[e] = sin_kappa > 0.0 ? -engagement.axial_feed_per_tooth_m *
-                                                     element_cos_kappa_[e] / sin_kappa
-                                               : 0.0;
+    element_axial_chip_m_[e] =
+        sin_kappa > 0.0 ? -engagement.axial_feed_per_tooth_m * element_cos_kappa_[e] / sin_kappa
+                        : 0.0;
   }
 }
 

@@ -26,6 +26,7 @@
 #include "job_parser_planning.hpp"
 #include "job_parser_simulation.hpp"
 #include "job_parser_surface.hpp"
+#include "job_parser_toolpath.hpp"
 #include "quantity_fields.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/io/job.hpp"
@@ -226,6 +227,14 @@ const SectionReader::Entry* SectionReader::find(std::string_view key) const {
       return &entry;
   }
   return nullptr;
+}
+
+std::vector<std::string> SectionReader::keys() const {
+  std::vector<std::string> result;
+  result.reserve(entries_.size());
+  for (const Entry& entry : entries_)
+    result.push_back(entry.key);
+  return result;
 }
 
 bool SectionReader::has(std::string_view key) const {
@@ -839,7 +848,13 @@ std::optional<tool::ToolSpec> read_tool(SectionReader& root) {
   auto section = root.section("tool");
   if (!section)
     return std::nullopt;
-  SectionReader& r = *section;
+  return detail::read_tool_fields(*section);
+}
+
+}  // namespace
+
+// The fields of a tool section, wherever it sits (`tool`, `toolpath.tools.T3`).
+tool::ToolSpec detail::read_tool_fields(SectionReader& r) {
   r.allow_schema("tool");
 
   tool::ToolSpec spec;
@@ -882,6 +897,8 @@ std::optional<tool::ToolSpec> read_tool(SectionReader& root) {
   }
   return spec;
 }
+
+namespace {
 
 std::optional<cutting::CuttingLaw> read_cutting(SectionReader& root) {
   auto section = root.section("cutting");
@@ -1889,6 +1906,7 @@ Job read_job(const YAML::Node& root_node, const std::filesystem::path& source,
   detail::read_deflection(root, job);  // 000 §2-4 (job_parser_deflection.cpp)
   detail::read_atlas(root, job);       // issue 11 (job_parser_atlas.cpp)
   detail::read_surface(root, job);     // 001 §2.4 (job_parser_surface.cpp)
+  detail::read_toolpath(root, job);    // program and stock (job_parser_toolpath.cpp)
   job.output = read_output(root);
   root.finish();
   return job;

@@ -17,6 +17,24 @@ OutputBundle::~OutputBundle() {
   std::error_code ignored;
   for (const fs::path& temporary : temporaries_)
     fs::remove(temporary, ignored);
+  for (const auto& [name, temporary] : adopted_)
+    fs::remove(temporary, ignored);
+}
+
+void OutputBundle::adopt(const std::string& name, const fs::path& temporary) {
+  if (name.empty() || name.find('/') != std::string::npos) {
+    throw Error("output name must be a plain file name, got '" + name + "'");
+  }
+  adopted_.emplace_back(name, temporary);
+}
+
+fs::path OutputBundle::temporary_for(const std::string& name) const {
+  std::error_code error;
+  fs::create_directories(directory_, error);
+  if (error) {
+    throw Error("cannot create output folder " + directory_.string() + ": " + error.message());
+  }
+  return directory_ / ("." + name + ".stream-" + std::to_string(::getpid()));
 }
 
 void OutputBundle::add(const std::string& name, const std::string& content) {
@@ -52,6 +70,14 @@ std::vector<fs::path> OutputBundle::commit() {
       throw Error("cannot rename into " + target.string() + ": " + error.message());
     written.push_back(target);
   }
+  for (const auto& [name, temporary] : adopted_) {
+    const fs::path target = directory_ / name;
+    fs::rename(temporary, target, error);
+    if (error)
+      throw Error("cannot rename into " + target.string() + ": " + error.message());
+    written.push_back(target);
+  }
+  adopted_.clear();
   temporaries_.clear();
   staged_.clear();
   return written;

@@ -84,6 +84,9 @@ class SectionReader {
                     std::string_view unsupported_message = {}, std::string_view context = {});
 
   bool has(std::string_view key) const;
+  /// Every key of the map, in the file's order (for maps keyed by the user:
+  /// `toolpath.tools: {T1: ..., T2: ...}`).
+  std::vector<std::string> keys() const;
   /// True when the key is present and holds a list (for fields that take
   /// either a word or a list, such as a mode's direction).
   bool is_list(std::string_view key) const;

@@ -110,8 +110,7 @@ double surface_inset_m(const EngagementGrid& grid, const CutterShape& cutter,
                        double resolution_m) noexcept {
   if (grid.surface_inset_m >= 0.0)
     return grid.surface_inset_m;
-  return std::min(0.5 * resolution_m,
-                  0.5 * resolution_m * resolution_m / cutter.radius_m + 1e-6);
+  return std::min(0.5 * resolution_m, 0.5 * resolution_m * resolution_m / cutter.radius_m + 1e-6);
 }
 
 CutterEngagement engagement_at(const DexelStock& stock, const CutterShape& cutter,

@@ -57,7 +57,8 @@ Eigen::Vector3d tangent_at(const Move& move, double u) noexcept {
     const ArcFrame frame = arc_frame(move);
     const Eigen::AngleAxisd turn(u * move.sweep_rad, move.normal);
     // d/du of the position: the sweep times the normal × radius, plus the lift.
-    direction = move.sweep_rad * move.normal.cross(turn * frame.radial) + frame.lift_m * move.normal;
+    direction =
+        move.sweep_rad * move.normal.cross(turn * frame.radial) + frame.lift_m * move.normal;
   } else if (move.kind != MotionKind::dwell) {
     direction = move.end_m - move.start_m;
   }

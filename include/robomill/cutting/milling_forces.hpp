@@ -31,7 +31,7 @@ struct GeneralEngagement {
   /// The edge from the tip up to this height is discretized (ap).
   double axial_depth_m = 0.0;
   /// Engaged arcs at height z above the tip: `arcs_at(z)` returns them.
-  std::vector<double> slice_top_m;           ///< upper end of each slice, increasing
+  std::vector<double> slice_top_m;            ///< upper end of each slice, increasing
   std::vector<std::vector<Engagement>> arcs;  ///< per slice, each arc in [0, 2π)
 };
 
@@ -101,7 +101,7 @@ class MillingForceModel {
   // −fz,axial cot κ per element: the axial feed's share of the chip divided by
   // sin κ (0 on cylindrical edges and without axial feed).
   std::vector<double> element_axial_chip_m_;
-  std::vector<Engagement> arcs_;     // every element's arcs, element-major
+  std::vector<Engagement> arcs_;        // every element's arcs, element-major
   std::vector<int> element_arc_begin_;  // element e's arcs: [begin[e], begin[e + 1])
 };
 

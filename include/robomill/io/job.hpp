@@ -2,8 +2,10 @@
 // A job: one robot cell and one question (DESIGN.md §3), validated and in SI.
 // The numerical core never sees the YAML; it sees these values.
 
+#include <Eigen/Geometry>
 #include <array>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -258,6 +260,39 @@ struct SurfaceSettings {
       steps_line = 0, spacing_line = 0, vibration_line = 0, area_line = 0;
 };
 
+/// `toolpath:` — the program the cell runs (`robomill toolpath`,
+/// docs/toolpath.md). SI units; the program itself is read by the command.
+struct ToolpathSettings {
+  enum class Format { gcode, apt, krl };
+  std::filesystem::path file;  ///< resolved against the job's folder
+  std::string file_text;       ///< as written in the job (messages)
+  Format format = Format::gcode;
+  /// Program frame → workpiece frame: `origin` (mm) and `orientation` (deg,
+  /// A B C about z, y', x'' as KUKA writes frames).
+  Eigen::Isometry3d program_to_workpiece = Eigen::Isometry3d::Identity();
+  /// `tools: {T1: {tool fields}, ...}`: cutters by tool number; empty: the
+  /// job's `tool` serves every tool number.
+  std::map<int, tool::ToolSpec> tools;
+  double spacing_m = 0.0;             ///< `spacing`; 0: a few feeds per tooth
+  double rapid_speed_m_s = 0.5;       ///< `rapid_speed` (30 m/min)
+  double spindle_rad_s = 0.0;         ///< `spindle`: when the program gives none
+  int force_steps_per_tooth = 32;     ///< `steps_per_tooth`
+  std::size_t max_bytes = 64u << 20;  ///< `max_size`
+  std::map<int, Eigen::Vector3d> work_offsets_m;  ///< G-code `work_offsets: {G54: [x, y, z]}`
+  std::filesystem::path dat_file;                 ///< KRL `dat` (default: the .src's .dat)
+  std::map<int, Eigen::Isometry3d> bases;         ///< KRL `bases: {1: [x, y, z, a, b, c]}`
+  char tool_direction = 'x';                      ///< KRL `tool_direction`
+  int line = 0, file_line = 0, tools_line = 0;
+};
+
+/// `stock:` — the raw part the program cuts (workpiece frame).
+struct StockSettings {
+  Eigen::Vector3d min_m = Eigen::Vector3d::Zero(), max_m = Eigen::Vector3d::Zero();
+  double resolution_m = 0.0;          ///< `resolution` (default: tool diameter / 20)
+  std::filesystem::path height_map;   ///< `height_map`: stock.csv of an earlier run
+  int line = 0, resolution_line = 0;
+};
+
 struct OutputSettings {
   std::string dir;  ///< empty: the command's default (out/<command>)
   bool csv = true, json = true, html = true;
@@ -299,6 +334,8 @@ struct Job {
   std::optional<SimulationSettings> simulation;  ///< `simulation:`
   std::optional<atlas::AtlasSpec> atlas;         ///< `atlas:` (docs/atlas.md)
   std::optional<SurfaceSettings> surface;        ///< `surface:` (docs/surface.md)
+  std::optional<ToolpathSettings> toolpath;      ///< `toolpath:` (docs/toolpath.md)
+  std::optional<StockSettings> stock;            ///< `stock:` (docs/toolpath.md)
   OutputSettings output;
 
   /// Resolves a path written in the job relative to the job file's folder.

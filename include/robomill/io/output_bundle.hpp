@@ -21,6 +21,16 @@ class OutputBundle {
   /// Stages `content` as `name` (a plain file name inside the directory).
   void add(const std::string& name, const std::string& content);
 
+  /// Takes over a file a long computation already streamed into the
+  /// directory under a hidden temporary name (`samples.csv` of a whole
+  /// program): commit renames it to `name` with the rest; a bundle that is
+  /// never committed removes it.
+  void adopt(const std::string& name, const std::filesystem::path& temporary);
+
+  /// A hidden temporary name in the directory for a file to `adopt` later
+  /// (creates the directory).
+  std::filesystem::path temporary_for(const std::string& name) const;
+
   /// Creates the directory if needed, writes every staged file to a temporary
   /// name, flushes, then renames each into place. Throws robomill::Error with
   /// the path on any I/O failure, removing what it wrote.
@@ -36,6 +46,7 @@ class OutputBundle {
   std::filesystem::path directory_;
   std::vector<std::pair<std::string, std::string>> staged_;
   std::vector<std::filesystem::path> temporaries_;
+  std::vector<std::pair<std::string, std::filesystem::path>> adopted_;
 };
 
 /// One file, atomically (a bundle of one).

@@ -1,0 +1,428 @@
+// robomill toolpath JOB: the program the cell runs, over the stock — the
+// engagement, forces, torque and power at every sample (docs/toolpath.md).
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <iostream>
+#include <numbers>
+#include <set>
+
+#include "commands.hpp"
+#include "robomill/core/error.hpp"
+#include "robomill/io/csv.hpp"
+#include "robomill/io/output_bundle.hpp"
+#include "robomill/io/program_readers.hpp"
+#include "robomill/io/summary.hpp"
+#include "robomill/toolpath/program_analysis.hpp"
+
+namespace robomill::app {
+namespace {
+
+constexpr double kDegPerRad = 180.0 / std::numbers::pi;
+constexpr double kRpmPerRadS = 60.0 / (2.0 * std::numbers::pi);
+constexpr std::size_t kPreviewRows = 20000;
+
+const char* motion_name(toolpath::MotionKind kind) {
+  switch (kind) {
+    case toolpath::MotionKind::rapid:
+      return "rapid";
+    case toolpath::MotionKind::arc:
+      return "arc";
+    case toolpath::MotionKind::dwell:
+      return "dwell";
+    default:
+      return "linear";
+  }
+}
+
+io::CsvTable sample_table() {
+  return io::CsvTable({"line",
+                       "t_s",
+                       "x_mm",
+                       "y_mm",
+                       "z_mm",
+                       "axis_i",
+                       "axis_j",
+                       "axis_k",
+                       "tool",
+                       "motion",
+                       "feed_mm_min",
+                       "spindle_rpm",
+                       "feed_per_tooth_mm",
+                       "ap_mm",
+                       "ae_mm",
+                       "engagement_deg",
+                       "entry_deg",
+                       "exit_deg",
+                       "arcs",
+                       "section_mm2",
+                       "chip_area_mm2",
+                       "fx_N",
+                       "fy_N",
+                       "fz_N",
+                       "force_mean_N",
+                       "force_peak_N",
+                       "torque_Nm",
+                       "torque_peak_Nm",
+                       "power_W",
+                       "analysed",
+                       "plunge"});
+}
+
+void add_sample(io::CsvTable& table, const toolpath::PathSample& s) {
+  table.add_cells({static_cast<double>(s.line),
+                   s.t_s,
+                   s.tip_m.x() * 1e3,
+                   s.tip_m.y() * 1e3,
+                   s.tip_m.z() * 1e3,
+                   s.axis.x(),
+                   s.axis.y(),
+                   s.axis.z(),
+                   static_cast<double>(s.tool),
+                   std::string(motion_name(s.kind)),
+                   s.feed_m_s * 6e4,
+                   s.spindle_rad_s * kRpmPerRadS,
+                   s.feed_per_tooth_m * 1e3,
+                   s.axial_depth_m * 1e3,
+                   s.radial_width_m * 1e3,
+                   s.engaged_rad * kDegPerRad,
+                   s.entry_rad * kDegPerRad,
+                   s.exit_rad * kDegPerRad,
+                   static_cast<double>(s.arcs),
+                   s.section_m2 * 1e6,
+                   s.chip_area_m2 * 1e6,
+                   s.force_mean_n.x(),
+                   s.force_mean_n.y(),
+                   s.force_mean_n.z(),
+                   s.force_mean_magnitude_n,
+                   s.force_peak_n,
+                   s.torque_mean_nm,
+                   s.torque_peak_nm,
+                   s.power_w,
+                   s.analysed ? 1.0 : 0.0,
+                   s.plunge ? 1.0 : 0.0});
+}
+
+io::CsvTable move_table(const toolpath::ProgramAnalysis& analysis) {
+  io::CsvTable table({"line", "move", "tool", "motion", "length_mm", "time_s", "feed_mm_min",
+                      "spindle_rpm", "samples", "engaged_samples", "removed_mm3", "max_ap_mm",
+                      "max_ae_mm", "max_engagement_deg", "max_force_N", "max_torque_Nm",
+                      "max_power_W", "tool_described"});
+  for (const toolpath::MoveTotals& m : analysis.moves) {
+    table.add_cells({static_cast<double>(m.line), static_cast<double>(m.move),
+                     static_cast<double>(m.tool), std::string(motion_name(m.kind)),
+                     m.length_m * 1e3, m.time_s, m.feed_m_s * 6e4, m.spindle_rad_s * kRpmPerRadS,
+                     static_cast<double>(m.samples), static_cast<double>(m.engaged_samples),
+                     m.removed_m3 * 1e9, m.max_axial_depth_m * 1e3, m.max_radial_width_m * 1e3,
+                     m.max_engaged_rad * kDegPerRad, m.max_force_n, m.max_torque_nm, m.max_power_w,
+                     m.tool_described ? 1.0 : 0.0});
+  }
+  return table;
+}
+
+io::CsvTable stock_table(const toolpath::DexelStock& stock) {
+  io::CsvTable table({"x_mm", "y_mm", "z_mm"});
+  const std::vector<double> heights = stock.top_heights_m();
+  const int nx = stock.counts()[0], ny = stock.counts()[1];
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i)
+      table.add_row({stock.cell_centre_m(0, i) * 1e3, stock.cell_centre_m(1, j) * 1e3,
+                     heights[static_cast<std::size_t>(j) * nx + i] * 1e3});
+  return table;
+}
+
+// The stock the job describes: a full box, or the height map an earlier run
+// left (stock.csv: x_mm, y_mm, z_mm with x fastest).
+toolpath::DexelStock make_stock(const io::Job& job) {
+  const io::StockSettings& s = *job.stock;
+  const toolpath::StockBox box{s.min_m, s.max_m};
+  try {
+    if (s.height_map.empty())
+      return toolpath::DexelStock(box, s.resolution_m);
+    const io::CsvTable map = io::read_csv(s.height_map);
+    const int x = map.find("x_mm"), y = map.find("y_mm"), z = map.find("z_mm");
+    if (x < 0 || y < 0 || z < 0 || map.rows() < 1)
+      throw InputError("stock.height_map", s.line,
+                       fmt::format("'{}' needs the columns x_mm, y_mm, z_mm (stock.csv of "
+                                   "robomill toolpath)",
+                                   s.height_map.string()));
+    std::size_t nx = 1;
+    while (nx < map.rows() && map.at(nx, y) == map.at(0, y))
+      ++nx;
+    if (map.rows() % nx != 0)
+      throw InputError(
+          "stock.height_map", s.line,
+          fmt::format("'{}' is not a regular grid (x fastest, then y)", s.height_map.string()));
+    std::vector<double> heights(map.rows());
+    for (std::size_t r = 0; r < map.rows(); ++r)
+      heights[r] = map.at(r, z) * 1e-3;
+    return toolpath::DexelStock::from_height_map(box, s.resolution_m, static_cast<int>(nx),
+                                                 static_cast<int>(map.rows() / nx), heights);
+  } catch (const std::invalid_argument& error) {
+    throw InputError("stock", s.line, error.what());
+  }
+}
+
+// The cutters by tool number, and the program's own word on them (APT CUTTER)
+// checked against the job's.
+toolpath::Tooling make_tooling(const io::Job& job, const toolpath::Program& program) {
+  toolpath::Tooling tooling;
+  const io::ToolpathSettings& settings = *job.toolpath;
+  if (settings.tools.empty())
+    tooling.emplace(0, tool::Tool(*job.tool));
+  for (const auto& [number, spec] : settings.tools)
+    tooling.emplace(number, tool::Tool(spec));
+  for (const toolpath::ToolCall& call : program.tool_calls) {
+    auto it = tooling.find(call.tool);
+    if (it == tooling.end())
+      it = tooling.find(0);
+    if (it == tooling.end())
+      continue;
+    const tool::Tool& cutter = it->second;
+    const std::string where = settings.tools.empty() ? std::string("the job's tool")
+                                                     : fmt::format("toolpath.tools.T{}", call.tool);
+    if (call.diameter_m && std::abs(*call.diameter_m - cutter.diameter_m()) > 1e-6)
+      throw InputError(
+          settings.file.filename().string(), call.line,
+          fmt::format("the program's cutter T{} is {:.4g} mm in diameter, {} is "
+                      "{:.4g} mm; describe the program's cutter",
+                      call.tool, *call.diameter_m * 1e3, where, cutter.diameter_m() * 1e3));
+    if (call.corner_radius_m) {
+      const bool ball = cutter.type() == tool::ToolType::ball;
+      const double job_corner = ball ? cutter.radius_m() : 0.0;
+      if (std::abs(*call.corner_radius_m - job_corner) > 1e-6)
+        throw InputError(settings.file.filename().string(), call.line,
+                         fmt::format("the program's cutter T{} has a corner radius of {:.4g} mm, "
+                                     "{} is a {} end mill (corner radius {:.4g} mm); robomill "
+                                     "models flat (0) and ball (R) ends",
+                                     call.tool, *call.corner_radius_m * 1e3, where,
+                                     ball ? "ball" : "flat", job_corner * 1e3));
+    }
+  }
+  return tooling;
+}
+
+// A one-line progress bar on stderr, only for a terminal.
+class ProgressBar {
+ public:
+  explicit ProgressBar(bool enabled) : enabled_(enabled && ::isatty(2)) {}
+  void operator()(double fraction) {
+    if (!enabled_)
+      return;
+    const int percent = static_cast<int>(std::lround(100.0 * fraction));
+    if (percent == last_)
+      return;
+    last_ = percent;
+    const int filled = percent * 40 / 100;
+    std::cerr << fmt::format("\rtoolpath [{:<40}] {:3d}%", std::string(filled, '#'), percent)
+              << std::flush;
+    if (percent >= 100)
+      std::cerr << '\n';
+  }
+
+ private:
+  bool enabled_;
+  int last_ = -1;
+};
+
+nlohmann::json warnings_json(const toolpath::ProgramAnalysis& analysis) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const auto& warning : analysis.warnings)
+    list.push_back({{"line", warning.line}, {"text", warning.text}, {"count", warning.count}});
+  return list;
+}
+
+}  // namespace
+
+CommandResult compute_toolpath(const io::Job& job, int threads,
+                               const std::filesystem::path& samples_file, bool progress) {
+  io::require(job, {io::Section::cutting});
+  if (!job.toolpath)
+    throw InputError("toolpath", 0, "required section missing: the program (toolpath.file)");
+  if (!job.stock)
+    throw InputError("stock", 0, "required section missing: the stock box (stock.box: {min, max})");
+  const auto start = std::chrono::steady_clock::now();
+  const io::ToolpathSettings& settings = *job.toolpath;
+  const toolpath::Program program = io::read_program(settings);
+  const toolpath::Tooling tooling = make_tooling(job, program);
+  toolpath::DexelStock stock = make_stock(job);
+
+  toolpath::ProgramAnalysisSettings analysis_settings;
+  analysis_settings.sample_spacing_m = settings.spacing_m;
+  analysis_settings.rapid_speed_m_s = settings.rapid_speed_m_s;
+  analysis_settings.default_spindle_rad_s = settings.spindle_rad_s;
+  analysis_settings.force_steps_per_tooth = settings.force_steps_per_tooth;
+  analysis_settings.threads = threads;
+  analysis_settings.source_name = settings.file.filename().string();
+
+  // Samples stream to the file (or into a table for library callers); a
+  // preview of at most kPreviewRows evenly spread rows goes to the report. The
+  // stride is chosen from the program's length before the run.
+  double path_length_m = 0.0;
+  for (const toolpath::Move& move : program.moves)
+    path_length_m += toolpath::path_length_m(move);
+  const double expected_samples =
+      path_length_m /
+          std::max(settings.spacing_m > 0.0 ? settings.spacing_m : 0.5 * job.stock->resolution_m,
+                   1e-6) +
+      2.0 * static_cast<double>(program.moves.size());
+  const std::size_t preview_stride = static_cast<std::size_t>(
+      std::max(1.0, std::ceil(expected_samples / static_cast<double>(kPreviewRows))));
+
+  io::CsvTable samples = sample_table();
+  io::CsvTable preview = sample_table();
+  std::ofstream stream;
+  if (!samples_file.empty()) {
+    stream.open(samples_file, std::ios::binary | std::ios::trunc);
+    if (!stream)
+      throw Error("cannot write " + samples_file.string());
+  }
+  bool header_written = false;
+  std::size_t seen = 0;
+  std::size_t max_engagement_line = 0;
+  double max_engagement_rad = 0.0;
+  const toolpath::SampleSink sink = [&](std::span<const toolpath::PathSample> block) {
+    io::CsvTable chunk = sample_table();
+    io::CsvTable& target = samples_file.empty() ? samples : chunk;
+    for (const toolpath::PathSample& sample : block) {
+      add_sample(target, sample);
+      if (seen++ % preview_stride == 0)
+        add_sample(preview, sample);
+      if (sample.engaged_rad > max_engagement_rad && sample.kind != toolpath::MotionKind::rapid) {
+        max_engagement_rad = sample.engaged_rad;
+        max_engagement_line = static_cast<std::size_t>(sample.line);
+      }
+    }
+    if (!samples_file.empty()) {
+      std::string text = chunk.to_string();
+      if (header_written)
+        text.erase(0, text.find('\n') + 1);
+      header_written = true;
+      stream.write(text.data(), static_cast<std::streamsize>(text.size()));
+      if (!stream)
+        throw Error("cannot write " + samples_file.string());
+    }
+  };
+  ProgressBar bar(progress);
+  const toolpath::ProgramAnalysis analysis =
+      toolpath::analyse_program(program, tooling, *job.cutting, stock, analysis_settings, sink,
+                                [&](double fraction) { bar(fraction); });
+  if (stream.is_open()) {
+    stream.flush();
+    if (!stream)
+      throw Error("cannot write " + samples_file.string());
+  }
+  if (analysis.engaged_samples == 0) {
+    throw InputError("toolpath.origin", settings.line,
+                     fmt::format("no move of '{}' touches the stock: check toolpath.origin "
+                                 "(where the program's zero sits in the workpiece frame) against "
+                                 "stock.box",
+                                 settings.file_text));
+  }
+  const double elapsed_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  nlohmann::json notes = nlohmann::json::array();
+  for (const toolpath::ProgramNote& note : program.notes)
+    notes.push_back({{"line", note.line}, {"text", note.text}});
+  std::set<int> tools_used;
+  for (const toolpath::Move& move : program.moves)
+    tools_used.insert(move.tool);
+  const io::StockSettings& stock_settings = *job.stock;
+  const double cycle_time_s = analysis.cutting_time_s + analysis.air_time_s + analysis.dwell_time_s;
+  nlohmann::json summary = {
+      {"command", "toolpath"},
+      {"job", job.source.string()},
+      {"program", settings.file_text},
+      {"dialect", program.dialect},
+      {"lines", program.line_count},
+      {"moves", program.moves.size()},
+      {"tools", std::vector<int>(tools_used.begin(), tools_used.end())},
+      {"samples", analysis.samples},
+      {"engaged_samples", analysis.engaged_samples},
+      {"cutting_time_s", analysis.cutting_time_s},
+      {"air_time_s", analysis.air_time_s},
+      {"dwell_time_s", analysis.dwell_time_s},
+      {"cycle_time_s", cycle_time_s},
+      {"volume_removed_mm3", analysis.volume_removed_m3 * 1e9},
+      {"max_force_N", analysis.max_force_n},
+      {"max_force_line", analysis.max_force_line},
+      {"max_torque_Nm", analysis.max_torque_nm},
+      {"max_torque_line", analysis.max_torque_line},
+      {"max_power_W", analysis.max_power_w},
+      {"max_power_line", analysis.max_power_line},
+      {"max_engagement_deg", max_engagement_rad * kDegPerRad},
+      {"max_engagement_line", max_engagement_line},
+      {"warnings", warnings_json(analysis)},
+      {"notes", notes},
+      {"stock",
+       {{"min_mm",
+         {stock_settings.min_m.x() * 1e3, stock_settings.min_m.y() * 1e3,
+          stock_settings.min_m.z() * 1e3}},
+        {"max_mm",
+         {stock_settings.max_m.x() * 1e3, stock_settings.max_m.y() * 1e3,
+          stock_settings.max_m.z() * 1e3}},
+        {"resolution_mm", stock_settings.resolution_m * 1e3},
+        {"memory_MB", static_cast<double>(stock.memory_bytes()) / 1e6}}},
+      {"frame", "workpiece frame; forces on the tool"},
+      {"elapsed_s", elapsed_s},
+  };
+  if (!job.name.empty())
+    summary["name"] = job.name;
+
+  CommandResult result;
+  if (samples_file.empty())
+    result.tables.emplace_back("samples", std::move(samples));
+  else
+    result.streamed.emplace_back("samples.csv", samples_file);
+  result.tables.emplace_back("samples_preview", std::move(preview));
+  result.tables.emplace_back("moves", move_table(analysis));
+  result.tables.emplace_back("stock", stock_table(stock));
+  result.summary = std::move(summary);
+  std::string warnings_text;
+  for (const auto& warning : analysis.warnings)
+    warnings_text += fmt::format(
+        "  warning (line {}{}): {}\n", warning.line,
+        warning.count > 1 ? fmt::format(", {} times", warning.count) : std::string(), warning.text);
+  result.message = fmt::format(
+      "toolpath: {} ({}), {} moves, {} samples ({} in the cut)\n"
+      "  cutting {:.1f} s, air {:.1f} s, removed {:.6g} mm^3\n"
+      "  max force {:.1f} N (line {}), torque {:.3f} N·m (line {}), power {:.0f} W (line {})\n{}",
+      settings.file_text, program.dialect, program.moves.size(), analysis.samples,
+      analysis.engaged_samples, analysis.cutting_time_s, analysis.air_time_s,
+      analysis.volume_removed_m3 * 1e9, analysis.max_force_n, analysis.max_force_line,
+      analysis.max_torque_nm, analysis.max_torque_line, analysis.max_power_w,
+      analysis.max_power_line, warnings_text);
+  return result;
+}
+
+int run_toolpath(const JobCommandOptions& options) {
+  const io::Job job = load(options);
+  const std::filesystem::path out = output_dir(options, job, "toolpath");
+  // samples.csv streams into the output folder while the program runs; a run
+  // that fails leaves neither it nor a folder it had to create.
+  std::error_code ignored;
+  const bool out_existed = std::filesystem::exists(out, ignored);
+  io::OutputBundle staging(out);
+  const std::filesystem::path samples_file = staging.temporary_for("samples.csv");
+  CommandResult result;
+  try {
+    result = compute_toolpath(job, options.threads, samples_file, !options.quiet);
+  } catch (...) {
+    std::filesystem::remove(samples_file, ignored);
+    if (!out_existed)
+      std::filesystem::remove(out, ignored);  // only if empty
+    throw;
+  }
+  add_key_inputs(result, job);
+  write_result(out, job.output, result, !options.quiet);
+  if (!options.quiet)
+    std::cout << result.message << "  written to " << out.string() << '\n';
+  return 0;
+}
+
+}  // namespace robomill::app

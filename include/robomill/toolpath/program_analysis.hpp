@@ -1,0 +1,133 @@
+#pragma once
+// The cut along a whole program (DESIGN.md §1, the toolpath stage): the
+// program's moves resampled, the material each sample removes from a
+// tri-dexel stock, the cutter-workpiece engagement at each sample, and from
+// it the forces, torque and power with the same force mechanism as `robomill
+// forces` (cutting/milling_forces.hpp, the general-engagement constructor).
+//
+// Samples stream out in program order through a callback, in blocks, so the
+// memory this needs grows with the stock and the program's moves, never with
+// the number of samples.
+
+#include <Eigen/Core>
+#include <cstddef>
+#include <functional>
+#include <map>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "robomill/cutting/cutting_law.hpp"
+#include "robomill/tool/tool.hpp"
+#include "robomill/toolpath/cutter_engagement.hpp"
+#include "robomill/toolpath/cutter_shape.hpp"
+#include "robomill/toolpath/dexel_stock.hpp"
+#include "robomill/toolpath/program.hpp"
+
+namespace robomill::toolpath {
+
+/// The cutters a program may call, by tool number. Key 0 (when present)
+/// serves every tool number that has no entry of its own (the job's `tool`
+/// without `toolpath.tools`). A move whose tool has no cutter is listed but
+/// neither removes material nor is analysed.
+using Tooling = std::map<int, tool::Tool>;
+
+struct ProgramAnalysisSettings {
+  /// Distance between samples along a move (m); every move's ends are
+  /// sampled too. 0: a few feeds per tooth, at least half the stock resolution.
+  double sample_spacing_m = 0.0;
+  double rapid_speed_m_s = 0.5;  ///< traverse speed for the air time (30 m/min)
+  /// Spindle speed for moves whose program gave none (rad/s; KRL programs
+  /// rarely do); 0: such a move in material is an error.
+  double default_spindle_rad_s = 0.0;
+  int force_steps_per_tooth = 32;       ///< force samples per tooth period (peaks)
+  EngagementGrid grid;                  ///< slice_height 0: default_engagement_grid
+  int threads = 0;                      ///< force evaluation (0: all cores)
+  std::size_t block_samples = 4096;     ///< samples computed and handed out per block
+  std::string source_name = "program";  ///< the program's name in errors
+};
+
+/// One sample along the program.
+struct PathSample {
+  std::size_t move = 0;  ///< index into Program::moves
+  int line = 0;          ///< program line
+  int tool = 0;
+  MotionKind kind = MotionKind::linear;
+  double t_s = 0.0;  ///< program time at the sample
+  Eigen::Vector3d tip_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();
+  Eigen::Vector3d feed_direction = Eigen::Vector3d::UnitX();  ///< unit direction of travel
+  double feed_m_s = 0.0;
+  double spindle_rad_s = 0.0;
+  double feed_per_tooth_m = 0.0;  ///< the lateral feed per tooth (normal to the axis)
+  bool analysed = false;          ///< a cutter was known and the sample was in the stock
+  bool plunge = false;            ///< feed along the tool axis: the whole turn was tested
+  // Engagement (toolpath/cutter_engagement.hpp).
+  double axial_depth_m = 0.0, radial_width_m = 0.0;
+  double engaged_rad = 0.0, entry_rad = 0.0, exit_rad = 0.0;
+  int arcs = 0;               ///< arcs of the widest slice
+  double section_m2 = 0.0;    ///< engaged cross-section normal to the feed
+  double chip_area_m2 = 0.0;  ///< mean uncut chip area Σ h b of all teeth over a tooth period
+  // Loads on the tool over one tooth period (a revolution with runout).
+  Eigen::Vector3d force_mean_n = Eigen::Vector3d::Zero();  ///< workpiece frame
+  double force_mean_magnitude_n = 0.0;                     ///< |mean force|
+  double force_peak_n = 0.0;                               ///< largest |F| over the period
+  double torque_mean_nm = 0.0, torque_peak_nm = 0.0;
+  double power_w = 0.0;  ///< mean torque × spindle speed
+};
+
+/// What one program line's moves added up to.
+struct MoveTotals {
+  std::size_t move = 0;
+  int line = 0;
+  int tool = 0;
+  MotionKind kind = MotionKind::linear;
+  double length_m = 0.0, time_s = 0.0;
+  double feed_m_s = 0.0, spindle_rad_s = 0.0;
+  bool tool_described = true;
+  int samples = 0, engaged_samples = 0;
+  double removed_m3 = 0.0;  ///< section × feed integrated over the move
+  double max_axial_depth_m = 0.0, max_radial_width_m = 0.0, max_engaged_rad = 0.0;
+  double max_force_n = 0.0, max_torque_nm = 0.0, max_power_w = 0.0;
+};
+
+struct ProgramAnalysis {
+  std::vector<MoveTotals> moves;
+  std::size_t samples = 0, engaged_samples = 0;
+  double cutting_time_s = 0.0;  ///< feed moves
+  double air_time_s = 0.0;      ///< rapids
+  double dwell_time_s = 0.0;
+  double volume_removed_m3 = 0.0;  ///< the stock's volume before − after
+  double max_force_n = 0.0, max_torque_nm = 0.0, max_power_w = 0.0;
+  int max_force_line = 0, max_torque_line = 0, max_power_line = 0;
+  /// Things the user should know (a rapid through material, moves of tools
+  /// that are not described, M4 rotation, a plunge of a flat end mill …),
+  /// each with the first program line it happened on and how often.
+  struct Warning {
+    int line = 0;
+    std::string text;
+    std::size_t count = 1;
+  };
+  std::vector<Warning> warnings;
+};
+
+/// Called with each block of samples, in program order.
+using SampleSink = std::function<void(std::span<const PathSample>)>;
+/// Called after each block with the fraction of the program done.
+using ProgressSink = std::function<void(double fraction)>;
+
+/// Runs the program over the stock (which it cuts), sample by sample. Throws
+/// InputError naming the program line when a feed move cuts material with no
+/// spindle speed, and std::invalid_argument for inconsistent settings.
+ProgramAnalysis analyse_program(const Program& program, const Tooling& tooling,
+                                const cutting::CuttingLaw& law, DexelStock& stock,
+                                const ProgramAnalysisSettings& settings, const SampleSink& sink,
+                                const ProgressSink& progress = {});
+
+/// The sample spacing used for a tool when none is set: three feeds per tooth
+/// at the program's largest feed and speed for that tool, but never below
+/// half the stock resolution (the engagement cannot change faster than the
+/// dexel grid resolves).
+double default_sample_spacing_m(double feed_per_tooth_m, double resolution_m) noexcept;
+
+}  // namespace robomill::toolpath

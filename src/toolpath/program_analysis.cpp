@@ -1,0 +1,398 @@
+#include "robomill/toolpath/program_analysis.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <optional>
+
+#include "robomill/core/error.hpp"
+#include "robomill/core/parallel.hpp"
+#include "robomill/cutting/milling_forces.hpp"
+
+namespace robomill::toolpath {
+namespace {
+
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+
+// A cutter ready for the program: the validated tool, its solid and its
+// engagement grid on this stock.
+struct Cutter {
+  const tool::Tool* tool = nullptr;
+  CutterShape shape;
+  EngagementGrid grid;
+};
+
+// The geometry of one sample, kept until the block's forces are computed.
+struct SampleGeometry {
+  CutterEngagement engagement;
+  Eigen::Matrix3d tool_to_workpiece = Eigen::Matrix3d::Identity();  // columns x, y, z
+  double axial_feed_per_tooth_m = 0.0;
+  const Cutter* cutter = nullptr;
+};
+
+// The local tool frame of cutter_engagement.hpp: z the axis, x the feed's part
+// normal to it (any normal direction for a plunge), y = z × x.
+Eigen::Matrix3d local_frame(const Eigen::Vector3d& axis, const Eigen::Vector3d& feed,
+                            bool& plunge) {
+  Eigen::Vector3d x = feed - feed.dot(axis) * axis;
+  plunge = x.norm() < 1e-6;
+  if (plunge)
+    x = axis.unitOrthogonal();
+  x.normalize();
+  Eigen::Matrix3d frame;
+  frame.col(0) = x;
+  frame.col(1) = axis.cross(x);
+  frame.col(2) = axis;
+  return frame;
+}
+
+// Collects warnings by text: the first line and how often.
+class Warnings {
+ public:
+  void add(int line, std::string text) {
+    for (ProgramAnalysis::Warning& warning : list_) {
+      if (warning.text == text) {
+        ++warning.count;
+        return;
+      }
+    }
+    list_.push_back({line, std::move(text), 1});
+  }
+  std::vector<ProgramAnalysis::Warning> take() { return std::move(list_); }
+
+ private:
+  std::vector<ProgramAnalysis::Warning> list_;
+};
+
+// The loads of one engaged sample over a tooth period (a revolution with
+// runout), with the force mechanism of `robomill forces`.
+void compute_loads(const cutting::CuttingLaw& law, const SampleGeometry& geometry,
+                   int steps_per_tooth, PathSample& sample) {
+  const CutterEngagement& engagement = geometry.engagement;
+  const tool::Tool& tool = *geometry.cutter->tool;
+  cutting::GeneralEngagement general;
+  general.spindle_rad_s = sample.spindle_rad_s;
+  general.feed_per_tooth_m = sample.feed_per_tooth_m;
+  general.axial_feed_per_tooth_m = geometry.axial_feed_per_tooth_m;
+  general.axial_depth_m = std::min(engagement.axial_depth_m, tool.overhang_m());
+  general.slice_top_m.reserve(engagement.slices.size());
+  general.arcs.reserve(engagement.slices.size());
+  for (const EngagementSlice& slice : engagement.slices) {
+    general.slice_top_m.push_back(slice.height_m + 0.5 * slice.thickness_m);
+    std::vector<cutting::Engagement>& arcs = general.arcs.emplace_back();
+    for (int a = 0; a < slice.arc_count; ++a)
+      arcs.push_back({slice.arcs[a].entry_rad, slice.arcs[a].exit_rad});
+  }
+  const cutting::MillingForceModel model(
+      tool, law, general, cutting::default_axial_elements(tool, general.axial_depth_m));
+  const bool runout = tool.runout().offset_m > 0.0;
+  const int steps = steps_per_tooth * (runout ? tool.teeth() : 1);
+  const double period_rad = kTwoPi / (runout ? 1.0 : static_cast<double>(tool.teeth()));
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  double peak = 0.0, torque_mean = 0.0, torque_peak = 0.0;
+  for (int k = 0; k < steps; ++k) {
+    const cutting::ToolLoad load = model.at(period_rad * k / steps);
+    mean += load.force_n;
+    peak = std::max(peak, load.force_n.norm());
+    torque_mean += load.torque_nm;
+    torque_peak = std::max(torque_peak, std::abs(load.torque_nm));
+  }
+  mean /= steps;
+  torque_mean /= steps;
+  sample.force_mean_n = geometry.tool_to_workpiece * mean;
+  sample.force_mean_magnitude_n = mean.norm();
+  sample.force_peak_n = peak;
+  sample.torque_mean_nm = torque_mean;
+  sample.torque_peak_nm = torque_peak;
+  sample.power_w = torque_mean * sample.spindle_rad_s;
+}
+
+}  // namespace
+
+double default_sample_spacing_m(double feed_per_tooth_m, double resolution_m) noexcept {
+  return std::max(3.0 * feed_per_tooth_m, 0.5 * resolution_m);
+}
+
+ProgramAnalysis analyse_program(const Program& program, const Tooling& tooling,
+                                const cutting::CuttingLaw& law, DexelStock& stock,
+                                const ProgramAnalysisSettings& settings, const SampleSink& sink,
+                                const ProgressSink& progress) {
+  if (settings.force_steps_per_tooth < 1 || settings.block_samples < 1 ||
+      !(settings.sample_spacing_m >= 0.0) || !(settings.rapid_speed_m_s > 0.0))
+    throw std::invalid_argument("program analysis: inconsistent settings");
+
+  std::map<int, Cutter> cutters;
+  for (const auto& [number, tool] : tooling) {
+    Cutter cutter;
+    cutter.tool = &tool;
+    cutter.shape = cutter_shape(tool);
+    cutter.grid = settings.grid.slice_height_m > 0.0
+                      ? settings.grid
+                      : default_engagement_grid(cutter.shape, stock.resolution_m());
+    cutters.emplace(number, cutter);
+  }
+  auto cutter_of = [&](int number) -> const Cutter* {
+    auto it = cutters.find(number);
+    if (it == cutters.end())
+      it = cutters.find(0);
+    return it == cutters.end() ? nullptr : &it->second;
+  };
+
+  ProgramAnalysis result;
+  Warnings warnings;
+  const double volume_before = stock.volume_m3();
+  result.moves.reserve(program.moves.size());
+
+  std::vector<PathSample> block;
+  std::vector<SampleGeometry> geometry;
+  block.reserve(settings.block_samples);
+  geometry.reserve(settings.block_samples);
+
+  // Forces of a block in parallel (each sample is independent once its
+  // engagement is known), then the per-move maxima in program order.
+  auto flush = [&] {
+    core::parallel_for(block.size(), settings.threads, [&](std::size_t i) {
+      PathSample& sample = block[i];
+      if (sample.analysed && !geometry[i].engagement.empty() && sample.kind != MotionKind::rapid)
+        compute_loads(law, geometry[i], settings.force_steps_per_tooth, sample);
+    });
+    for (const PathSample& sample : block) {
+      MoveTotals& totals = result.moves[sample.move];
+      totals.max_force_n = std::max(totals.max_force_n, sample.force_peak_n);
+      totals.max_torque_nm = std::max(totals.max_torque_nm, sample.torque_peak_nm);
+      totals.max_power_w = std::max(totals.max_power_w, sample.power_w);
+      if (sample.force_peak_n > result.max_force_n) {
+        result.max_force_n = sample.force_peak_n;
+        result.max_force_line = sample.line;
+      }
+      if (sample.torque_peak_nm > result.max_torque_nm) {
+        result.max_torque_nm = sample.torque_peak_nm;
+        result.max_torque_line = sample.line;
+      }
+      if (sample.power_w > result.max_power_w) {
+        result.max_power_w = sample.power_w;
+        result.max_power_line = sample.line;
+      }
+    }
+    if (sink && !block.empty())
+      sink(std::span<const PathSample>(block.data(), block.size()));
+    result.samples += block.size();
+    block.clear();
+    geometry.clear();
+  };
+
+  double time_s = 0.0;
+  std::optional<Eigen::Vector3d> last_tip, last_axis;  // where the cutter was last placed
+  bool approached = false;                             // a feed move was seen
+  for (std::size_t m = 0; m < program.moves.size(); ++m) {
+    const Move& move = program.moves[m];
+    MoveTotals& totals = result.moves.emplace_back();
+    totals.move = m;
+    totals.line = move.line;
+    totals.tool = move.tool;
+    totals.kind = move.kind;
+    totals.length_m = path_length_m(move);
+    totals.time_s = duration_s(move, settings.rapid_speed_m_s);
+    totals.feed_m_s = move.feed_m_s;
+    totals.spindle_rad_s = move.spindle_rad_s;
+    const double move_start_s = time_s;
+    time_s += totals.time_s;
+    switch (move.kind) {
+      case MotionKind::rapid:
+        result.air_time_s += totals.time_s;
+        break;
+      case MotionKind::dwell:
+        result.dwell_time_s += totals.time_s;
+        break;
+      default:
+        result.cutting_time_s += totals.time_s;
+    }
+    if (move.kind == MotionKind::dwell)
+      continue;
+
+    const Cutter* cutter = cutter_of(move.tool);
+    totals.tool_described = cutter != nullptr;
+    if (!cutter) {
+      warnings.add(move.line, fmt::format("tool T{} is not described in toolpath.tools: its moves "
+                                          "are listed, not analysed, and remove no material",
+                                          move.tool));
+      last_tip.reset();
+      continue;
+    }
+    const tool::Tool& tool = *cutter->tool;
+    const bool feed_move = move.kind != MotionKind::rapid;
+    double spindle_rad_s = std::abs(move.spindle_rad_s);
+    if (spindle_rad_s == 0.0)
+      spindle_rad_s = settings.default_spindle_rad_s;
+    if (move.spindle_rad_s < 0.0)
+      warnings.add(move.line,
+                   "counter-clockwise spindle (M4/CCW): forces computed for clockwise rotation");
+    const double revolutions_per_s = spindle_rad_s / kTwoPi;
+    const double feed_per_tooth_m =
+        spindle_rad_s > 0.0 ? move.feed_m_s / (tool.teeth() * revolutions_per_s) : 0.0;
+    const double spacing_m = settings.sample_spacing_m > 0.0
+                                 ? settings.sample_spacing_m
+                                 : default_sample_spacing_m(feed_per_tooth_m, stock.resolution_m());
+    // Until the first feed move the cutter's position is not known: a program
+    // starts wherever the machine happened to be (the readers start at the
+    // program zero, as LinuxCNC does), and a post's first rapids (G0 X Y, then
+    // G43 Z) move one axis at a time from there. The approach rapids are taken
+    // as the safe moves CAM made them: they are listed, not sampled, and the
+    // cutter first appears where the first feed move starts.
+    if (!approached && move.kind == MotionKind::rapid)
+      continue;
+    approached = true;
+    const std::size_t steps = std::max<std::size_t>(
+        1, static_cast<std::size_t>(std::ceil(totals.length_m / spacing_m - 1e-9)));
+    const double step_m = totals.length_m / static_cast<double>(steps);
+    const double inset_m = surface_inset_m(cutter->grid, cutter->shape, stock.resolution_m());
+    const double lookahead_m =
+        std::max(0.5 * step_m, std::sqrt(4.0 * cutter->shape.radius_m * inset_m) - step_m);
+
+    for (std::size_t k = 0; k <= steps; ++k) {
+      if (block.size() >= settings.block_samples) {
+        flush();
+        if (progress)
+          progress(static_cast<double>(m) / static_cast<double>(program.moves.size()));
+      }
+      const double u = static_cast<double>(k) / static_cast<double>(steps);
+      PathSample& sample = block.emplace_back();
+      SampleGeometry& geo = geometry.emplace_back();
+      sample.move = m;
+      sample.line = move.line;
+      sample.tool = move.tool;
+      sample.kind = move.kind;
+      sample.t_s = move_start_s + u * totals.time_s;
+      sample.tip_m = position_at(move, u);
+      sample.axis = axis_at(move, u);
+      sample.feed_direction = tangent_at(move, u);
+      sample.feed_m_s = move.feed_m_s;
+      sample.spindle_rad_s = spindle_rad_s;
+
+      bool plunge = false;
+      geo.tool_to_workpiece = local_frame(sample.axis, sample.feed_direction, plunge);
+      geo.cutter = cutter;
+      sample.plunge = plunge && totals.length_m > 0.0;
+      const double along_axis = sample.feed_direction.dot(sample.axis);
+      sample.feed_per_tooth_m =
+          feed_per_tooth_m * std::sqrt(std::max(0.0, 1.0 - along_axis * along_axis));
+      geo.axial_feed_per_tooth_m = feed_per_tooth_m * along_axis;
+
+      // The engagement on the stock as the samples before left it; then this
+      // sample's sweep is removed (from where the cutter was last placed).
+      //
+      // The engagement is looked up a little ahead along the lateral feed.
+      // The sides of a slot (φ near 0 and π) border material only a sliver
+      // thick beyond the previous sample's envelope: at φ = 0, a probe s
+      // ahead of a sample one step f after the previous clears that envelope
+      // by (s + f)² / (2R), which must exceed the engagement's surface inset
+      // (cutter_engagement.hpp) or the sides read as air. s = √(4 R inset) − f
+      // (at least f / 2) clears it by twice the inset. Walls along the feed (a
+      // side cut's entry), the floor and ap are unchanged by a shift along x;
+      // a wall across the feed is seen s early (a resampling error, reported
+      // in docs/toolpath.md). A plunge has no lateral direction: no shift.
+      // The probe follows the path itself (an arc's probe stays on the arc, so
+      // the wall an earlier turn of a helix left is not crossed), straight on
+      // past the move's end; its engagement is taken in its own frame.
+      Eigen::Vector3d probe_m = sample.tip_m;
+      Eigen::Vector3d probe_axis = sample.axis, probe_feed = sample.feed_direction;
+      if (!plunge && totals.length_m > 0.0) {
+        const double ahead_u = u + lookahead_m / totals.length_m;
+        if (ahead_u <= 1.0) {
+          probe_m = position_at(move, ahead_u);
+          probe_axis = axis_at(move, ahead_u);
+          probe_feed = tangent_at(move, ahead_u);
+        } else {
+          // Into the next move where the cut goes on (a feed move that starts
+          // here), else the move's end.
+          const Move* next = m + 1 < program.moves.size() ? &program.moves[m + 1] : nullptr;
+          const double beyond_m = (ahead_u - 1.0) * totals.length_m;
+          const double next_length_m = next ? toolpath::path_length_m(*next) : 0.0;
+          if (next && next->kind != MotionKind::rapid && next->kind != MotionKind::dwell &&
+              next_length_m > 0.0 && (next->start_m - move.end_m).norm() < 1e-9) {
+            const double next_u = std::min(1.0, beyond_m / next_length_m);
+            probe_m = position_at(*next, next_u);
+            probe_axis = axis_at(*next, next_u);
+            probe_feed = tangent_at(*next, next_u);
+          } else {
+            probe_m = move.end_m;
+            probe_axis = axis_at(move, 1.0);
+            probe_feed = tangent_at(move, 1.0);
+          }
+        }
+        bool probe_plunge = false;
+        geo.tool_to_workpiece = local_frame(probe_axis, probe_feed, probe_plunge);
+        if (probe_plunge) {  // the path turns into the axis within s: stay put
+          probe_m = sample.tip_m;
+          probe_axis = sample.axis;
+          probe_feed = sample.feed_direction;
+          geo.tool_to_workpiece = local_frame(probe_axis, probe_feed, probe_plunge);
+        }
+      }
+      geo.engagement =
+          engagement_at(stock, cutter->shape, probe_m, probe_axis, probe_feed, cutter->grid);
+      if (last_tip)
+        stock.remove_sweep(cutter->shape, *last_tip, *last_axis, sample.tip_m, sample.axis);
+      else
+        stock.remove(cutter->shape, sample.tip_m, sample.axis);
+      last_tip = sample.tip_m;
+      last_axis = sample.axis;
+
+      const CutterEngagement& engagement = geo.engagement;
+      ++totals.samples;
+      if (engagement.empty())
+        continue;
+      ++totals.engaged_samples;
+      ++result.engaged_samples;
+      sample.axial_depth_m = engagement.axial_depth_m;
+      sample.radial_width_m = engagement.radial_width_m;
+      sample.engaged_rad = engagement.engaged_rad;
+      sample.entry_rad = engagement.entry_rad;
+      sample.exit_rad = engagement.exit_rad;
+      sample.section_m2 = engagement.section_m2;
+      for (const EngagementSlice& slice : engagement.slices) {
+        if (slice.engaged_rad() >= sample.engaged_rad - 1e-12)
+          sample.arcs = std::max(sample.arcs, slice.arc_count);
+        // Mean Σ h b over a tooth period: h db = fz sin φ sin κ dz / sin κ,
+        // integrated over each arc and averaged over 2π/N.
+        for (int a = 0; a < slice.arc_count; ++a)
+          sample.chip_area_m2 +=
+              tool.teeth() * sample.feed_per_tooth_m / kTwoPi *
+              (std::cos(slice.arcs[a].entry_rad) - std::cos(slice.arcs[a].exit_rad)) *
+              slice.thickness_m;
+      }
+      sample.chip_area_m2 = std::max(0.0, sample.chip_area_m2);
+      totals.max_axial_depth_m = std::max(totals.max_axial_depth_m, sample.axial_depth_m);
+      totals.max_radial_width_m = std::max(totals.max_radial_width_m, sample.radial_width_m);
+      totals.max_engaged_rad = std::max(totals.max_engaged_rad, sample.engaged_rad);
+      if (k > 0)
+        totals.removed_m3 += sample.section_m2 * step_m;
+
+      if (!feed_move) {
+        warnings.add(move.line, "a rapid move cuts material (the program would crash the tool)");
+        continue;
+      }
+      if (spindle_rad_s == 0.0) {
+        throw InputError(settings.source_name, move.line,
+                         "a feed move cuts material with the spindle off and no spindle speed "
+                         "in the program; give S (M3) in the program or toolpath.spindle in "
+                         "the job");
+      }
+      sample.analysed = true;
+      if (sample.plunge && !cutter->shape.is_ball())
+        warnings.add(move.line,
+                     "a flat end mill plunges along its axis: the end teeth's cut is not "
+                     "modelled (side-edge forces only)");
+    }
+  }
+  flush();
+  if (progress)
+    progress(1.0);
+  result.volume_removed_m3 = std::max(0.0, volume_before - stock.volume_m3());
+  result.warnings = warnings.take();
+  return result;
+}
+
+}  // namespace robomill::toolpath
