@@ -30,6 +30,10 @@ int run_report(const ReportOptions& options) {
     const std::string name = entry.path().filename().string();
     if (!entry.is_regular_file() || name.empty() || name.front() == '.' || name == "report.html")
       continue;
+    // A whole program's samples.csv can be hundreds of MB; its page is drawn
+    // from samples_preview.csv, as when the command wrote it.
+    if (name == "samples.csv" && fs::is_regular_file(options.dir / "samples_preview.csv", error))
+      continue;
     std::ifstream stream(entry.path(), std::ios::binary);
     std::ostringstream content;
     content << stream.rdbuf();

@@ -101,6 +101,9 @@ struct Outputs {
 
 /// The figures and tables of `outputs.command` (figures.cpp).
 Content build_content(const Outputs& outputs);
+/// `robomill toolpath`: the path in 3-D, engagement and loads over time, the
+/// final stock, the worst moves and the warnings (figures_toolpath.cpp).
+void toolpath_figures(const Outputs& outputs, Content& content);
 /// Every numeric column of a table over its first column: the fallback for
 /// commands without dedicated figures.
 void generic_figures(const std::string& file, const Table& table, Content& content);

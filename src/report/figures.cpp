@@ -1192,6 +1192,8 @@ Content build_content(const Outputs& o) {
     identify_stiffness(o, c);
   else if (cmd == "surface")
     surface(o, c);
+  else if (cmd == "toolpath")
+    toolpath_figures(o, c);
   else {
     for (const auto& [name, text] : o.files)
       if (name.ends_with(".csv"))
@@ -1210,7 +1212,7 @@ bool has_dedicated_figures(std::string_view command) {
       "forces",   "stability",  "fit-modes",        "frf",
       "robot",    "atlas",      "optimize",         "advise",
       "simulate", "deflection", "identify-cutting", "identify-stiffness",
-      "surface"};
+      "surface",  "toolpath"};
   return commands.count(command) > 0;
 }
 

@@ -5,7 +5,11 @@
 //  - every figure rendered by Plotly, with at least one trace holding data;
 //  - every 2-D figure's y axes and at least one x axis titled (units), and
 //    every 3-D scene's axes titled;
-//  - the key-results table present.
+//  - the key-results table present;
+//  - every button of a figure's menus (updatemenus: the facet of a map, the
+//    colouring of the tool path) applied without error, its data intact;
+//  - what particular reports must show (`expected`: the toolpath page's
+//    figures and tables).
 // Saves a full-page PNG per report. Exit status 1 on any failure.
 //
 // usage: node check_reports.cjs NODE_MODULES CHROMIUM SHOT_DIR NAME=REPORT.html...
@@ -16,6 +20,16 @@ const fs = require('fs');
 const [nodeModules, chromiumPath, shotDir, ...reports] = process.argv.slice(2);
 const { chromium } = require(path.resolve(nodeModules, 'playwright-core'));
 
+// Beyond the common checks, by report name: figure titles and table
+// captions (parts) that must be on the page.
+const expected = {
+  toolpath: {
+    figures: ['Tool path', 'Engagement and loads over time', 'Final stock, height map',
+              'Final stock, 3-D view'],
+    tables: ['moves with the largest cutting force', 'Warnings of the analysis'],
+  },
+};
+
 function hasData(trace) {
   const arrays = [];
   for (const key of ['x', 'y', 'z']) if (Array.isArray(trace[key])) arrays.push(trace[key]);
@@ -24,6 +38,28 @@ function hasData(trace) {
     return Array.isArray(trace.z) && finite(trace.z);
   return Array.isArray(trace.y) && trace.y.length > 0 && finite(trace.y) &&
          (!Array.isArray(trace.x) || trace.x.length > 0);
+}
+
+// Runs in the page: applies every menu button of every figure, as a click
+// would (Plotly's own method and arguments), then the first again; returns
+// the errors and the figures whose visible traces lost their data.
+async function pressMenus() {
+  const problems = [];
+  for (const div of document.querySelectorAll('div.plot')) {
+    const menus = (div.layout && div.layout.updatemenus) || [];
+    for (const menu of menus) {
+      const buttons = menu.buttons || [];
+      for (const b of [...buttons, buttons[0]]) {
+        if (!b || !b.method || !Plotly[b.method]) continue;
+        try {
+          await Plotly[b.method](div, ...(b.args || []));
+        } catch (e) {
+          problems.push(`figure "${div.dataset.title}": menu "${b.label}": ${e.message}`);
+        }
+      }
+    }
+  }
+  return problems;
 }
 
 // Runs in the page: what each figure holds.
@@ -106,6 +142,23 @@ function inspectFigures() {
       }
       const results = await page.$$eval('table.results tr', (rows) => rows.length);
       if (results < 2) problems.push('key-results table empty');
+      const want = expected[name];
+      if (want) {
+        for (const title of want.figures || [])
+          if (!figures.some((f) => f.title === title)) problems.push(`no figure "${title}"`);
+        const captions = await page.$$eval('table.data', (tables) => tables.map((t) => ({
+          caption: t.caption ? t.caption.textContent : '',
+          rows: t.tBodies.length ? t.tBodies[0].rows.length : 0,
+        })));
+        for (const part of want.tables || [])
+          if (!captions.some((t) => t.caption.includes(part) && t.rows > 0))
+            problems.push(`no table "…${part}…" with rows`);
+      }
+      problems.push(...(await page.evaluate(pressMenus)));
+      for (const f of await page.evaluate(inspectFigures))
+        for (const t of f.traces)
+          if (t.visible !== false && t.visible !== 'legendonly' && !hasData(t) && t.type !== 'bar')
+            problems.push(`figure "${f.title}": an empty ${t.type} trace after its menus`);
       const shot = path.join(shotDir, name + '.png');
       await page.screenshot({ path: shot, fullPage: true });
       console.log(`${problems.length ? 'FAIL' : 'ok  '} ${name}: ${figures.length} figures → ${shot}`);
