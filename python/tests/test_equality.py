@@ -36,6 +36,8 @@ CASES = [
     ("advise", robomill.advise, "003_kr270_cutting_advice.yaml", ADVISE_FAST),
     ("surface", robomill.surface, "001_case_5_surface.yaml",
      ["surface.grid=[100, 100]", "surface.grid_rule=false"]),
+    ("toolpath", robomill.toolpath, "toolpath_pocket_gcode.yaml", []),
+    ("toolpath", robomill.toolpath, "toolpath_ball_5axis_apt.yaml", ["stock.resolution=0.5 mm"]),
 ]
 
 

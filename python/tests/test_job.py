@@ -213,3 +213,29 @@ def test_argument_errors(source):
         robomill.identify_cutting(source / "README.md", teeth=2, direction="sideways")
     with pytest.raises(robomill.InputError, match="--kind"):
         robomill.frf(job, kind="velocity")
+
+
+def test_toolpath_samples_are_arrays_by_program_line(source):
+    result = robomill.toolpath(source / "examples" / "toolpath_pocket_gcode.yaml")
+    samples = result["samples"]
+    assert isinstance(samples["force_peak_N"], np.ndarray)
+    assert samples["line"].shape == samples["engagement_deg"].shape
+    assert set(samples["motion"]) <= {"rapid", "linear", "arc"}
+    summary = result["summary"]
+    # The largest force is at the line summary.json names, and it is a sample's.
+    worst = int(np.argmax(samples["force_peak_N"]))
+    assert summary["max_force_N"] == pytest.approx(samples["force_peak_N"][worst])
+    assert summary["max_force_line"] == int(samples["line"][worst])
+    # The full slot (line 19 of programs/pocket.nc) engages the half turn.
+    slot = samples["line"] == 19
+    assert np.median(samples["engagement_deg"][slot]) == pytest.approx(180.0, abs=1.0)
+    assert "stock" in result and result["stock"]["z_mm"].min() == pytest.approx(17.0, abs=0.01)
+
+
+def test_toolpath_refuses_a_program_by_line_and_word(source):
+    job = robomill.Job(source / "examples" / "toolpath_pocket_gcode.yaml",
+                       {"toolpath.file": str(source / "tests" / "cli" / "programs" /
+                                             "compensated.nc")})
+    with pytest.raises(robomill.InputError) as error:
+        robomill.toolpath(job)
+    assert error.value.line == 8 and "G41" in str(error.value)

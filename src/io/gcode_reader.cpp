@@ -46,14 +46,23 @@
 //    Home X/Y are never modelled (note). G53 is accepted only with zero
 //    coordinates (`G53 G0 Z0.`, machine home); other machine coordinates are
 //    refused.
+//  * G187 (Haas smoothing, P1-P3 and/or E tolerance) and G103 (Haas
+//    look-ahead limit, P0-P15) are accepted with a note: they change how the
+//    machine follows the path, not the path. rs274 refuses both.
+//  * G15 G50 G50.1 G69, G92.1 G92.2 and G97 cancel modes that are refused
+//    (polar, scaling, mirroring, rotation, G92 offsets, G96 constant surface
+//    speed), so never in force: accepted as no-ops (G97 S is rpm, as S is
+//    always read). G92.1 also clears G92 offsets a control kept from an earlier
+//    program, which is what we assume anyway.
 //  * M2/M30 end the program; later lines are not read (note). `/` block
 //    delete executes the block (a control with the switch off; rs274's
 //    default), with a note.
 //  * Refused with the line and word: G41/G42 cutter compensation, G93
-//    inverse time, G92/G10/G68/G51 and other frame changes, subroutines (O
-//    sub/call, M98/M99, G65), parameters and expressions (#1, [..]), rotary or
-//    extra axes (A B C U V W), unknown letters and G/M codes, a word repeated
-//    in a block, two G codes of one modal group in a block, words no code in
+//    inverse time, G92/G10/G68/G51 and other frame changes, LinuxCNC's polar
+//    words (@ radius, ^ angle), subroutines (O sub/call, M98/M99, G65),
+//    parameters and expressions (#1, [..]), rotary or extra axes (A B C U V
+//    W), unknown letters (E but with G187) and G/M codes, a word repeated in
+//    a block, two G codes of one modal group in a block, words no code in
 //    the block uses (I J K R P Q L), feed moves with no F.
 //  * Zero-length straight moves are dropped: they move nothing.
 
@@ -165,9 +174,17 @@ std::vector<Word> split_words(const std::string& compact, int number, const std:
     const char letter = compact[i];
     if (letter == '#' || letter == '[')
       refuse_parameters(source, number, compact.substr(i, 8));
+    if (letter == '@' || letter == '^') {
+      const std::size_t end = compact.find_first_not_of("+-0123456789.", i + 1);
+      throw InputError(source, number,
+                       fmt::format("{}: polar coordinates (LinuxCNC's @ radius and ^ angle) are "
+                                   "not modelled; post the program in plain Cartesian "
+                                   "coordinates (X Y)",
+                                   compact.substr(i, end == std::string::npos ? end : end - i)));
+    }
     if (!is_letter(letter))
       throw InputError(source, number,
-                       fmt::format("unexpected character '{}' where a word (a letter and a "
+                       fmt::format("'{}': unexpected character where a word (a letter and a "
                                    "number, e.g. X10.5) should begin",
                                    letter));
     std::size_t j = i + 1;
@@ -233,7 +250,9 @@ enum Group {
   kWorkOffset,
   kPathControl,
   kRetract,
-  kCancelOnly,  // G15 G50 G50.1 G69: cancels of modes we never enter
+  kCancelOnly,  // G15 G50 G50.1 G69 G92.1 G92.2 G97: cancels of modes we never enter
+  kSmoothing,   // G187 (Haas)
+  kLookAhead,   // G103 (Haas)
   kGroupCount
 };
 
@@ -307,7 +326,15 @@ Group g_group(int code) {
     case 500:
     case 501:
     case 690:
+    case 921:  // G92 offsets: refused, so never in force; a control that kept
+    case 922:  // some from an earlier program drops them, as we assume
+    case 970:  // G97: spindle speed in rpm (what S is read as); cancels G96,
+               // constant surface speed, which is refused
       return kCancelOnly;
+    case 1870:
+      return kSmoothing;
+    case 1030:
+      return kLookAhead;
     default:
       return kGroupCount;
   }
@@ -329,8 +356,6 @@ std::string g_refusal(int code) {
     case 660:
       return "macro calls are not supported; post the program flat, without macros";
     case 920:
-    case 921:
-    case 922:
     case 923:
     case 100:
     case 520:
@@ -530,6 +555,9 @@ class Interpreter {
 Decoded Interpreter::decode(const Block& block) const {
   Decoded d;
   d.line = block.line;
+  const bool has_g187 = std::any_of(block.words.begin(), block.words.end(), [](const Word& w) {
+    return w.letter == 'G' && code_tenths(w.value) == 1870;
+  });
   for (const Word& word : block.words) {
     const char c = word.letter;
     if (c == 'G') {
@@ -542,10 +570,11 @@ Decoded Interpreter::decode(const Block& block) const {
         fail(
             fmt::format("{}: unknown G code; robomill reads the G-code of 3-axis milling posts "
                         "(G0-G3, G4, G17-G21, G28, G40, G43, G49, G53-G59, G61, G64, G73, "
-                        "G80-G83, G90, G91, G94, G95, G98, G99)",
+                        "G80-G83, G90, G91, G94, G95, G98, G99, G103, G187)",
                         word.text));
       }
-      if (d.g[group] != nullptr)
+      // The cancels of different refused modes (G50 G69 ...) may share a block.
+      if (d.g[group] != nullptr && group != kCancelOnly)
         fail(fmt::format("{} and {} in one block: both set the same modal group; keep one",
                          d.g[group]->text, word.text));
       d.g[group] = &word;
@@ -607,6 +636,13 @@ Decoded Interpreter::decode(const Block& block) const {
         case 'D':
         case 'N':
           break;
+        case 'E':
+          if (has_g187)
+            break;
+          fail(
+              fmt::format("{}: unknown word 'E'; robomill reads the letters F G H I J K L M N P "
+                          "Q R S T X Y Z (and E with G187)",
+                          word.text));
         case 'A':
         case 'B':
         case 'C':
@@ -647,6 +683,8 @@ void Interpreter::check_word_users(const Decoded& d, Motion motion, bool moves) 
   const bool arc = moves && is_arc(motion);
   const bool cycle = moves && is_cycle(motion);
   const bool g64 = d.g_code(kPathControl) == 640;
+  const bool g187 = d.g[kSmoothing] != nullptr;
+  const bool g103 = d.g[kLookAhead] != nullptr;
   auto require = [&](char c, bool used, std::string_view users) {
     if (d.has(c) && !used)
       fail(fmt::format("{}: no code in this block uses {} (it belongs with {})", d[c]->text, c,
@@ -656,11 +694,19 @@ void Interpreter::check_word_users(const Decoded& d, Motion motion, bool moves) 
   require('J', arc, "G2/G3");
   require('K', arc, "G2/G3");
   require('R', arc || cycle, "G2/G3 or a drilling cycle");
-  require('P', arc || nonmodal == 40 || g64 || (cycle && motion == Motion::g82),
-          "G4, G82, G64 or G2/G3 turns");
+  require('P', arc || nonmodal == 40 || g64 || g187 || g103 || (cycle && motion == Motion::g82),
+          "G4, G82, G64, G187, G103 or G2/G3 turns");
   require('Q', g64 || (cycle && (motion == Motion::g73 || motion == Motion::g83)),
           "G73, G83 or G64");
   require('L', cycle, "a drilling cycle (repeats)");
+  require('E', g187, "G187 (smoothing tolerance)");
+  if ((g187 || g103) && d.has('P') &&
+      ((g187 && g103) || arc || nonmodal == 40 || g64 || (cycle && motion == Motion::g82)))
+    fail(
+        fmt::format("{} with {}: another code of the block also reads P; put {} in a block "
+                    "of its own",
+                    (g187 ? d.g[kSmoothing] : d.g[kLookAhead])->text, d['P']->text,
+                    (g187 ? d.g[kSmoothing] : d.g[kLookAhead])->text));
 }
 
 Eigen::Vector3d Interpreter::offset_m() const {
@@ -808,6 +854,30 @@ void Interpreter::set_modes(const Decoded& d) {
     incremental_centres_ = centres == 911;
   if (const int retract = d.g_code(kRetract); retract >= 0)
     retract_to_r_ = retract == 990;
+  // Haas smoothing (G187 P1-P3 rough/medium/finish, E corner tolerance) and
+  // look-ahead (G103 P0-P15) settings change how closely and how fast the
+  // machine follows the path, not the programmed path: accepted, noted.
+  if (const Word* g187 = d.g[kSmoothing]) {
+    const Word* p = d['P'];
+    if (p != nullptr && (p->value < 1.0 || p->value > 3.0 || p->value != std::floor(p->value)))
+      fail(fmt::format("G187 {}: the smoothing level P is 1, 2 or 3", p->text));
+    const Word* e = d['E'];
+    if (e != nullptr && e->value <= 0.0)
+      fail(fmt::format("G187 {}: the smoothing tolerance E must be positive", e->text));
+    note_once("G187", line_,
+              fmt::format("{}: machine smoothing (Haas); it changes how closely the machine "
+                          "follows the path at speed, not the programmed path: ignored",
+                          g187->text));
+  }
+  if (const Word* g103 = d.g[kLookAhead]) {
+    const Word* p = d['P'];
+    if (p != nullptr && (p->value < 0.0 || p->value > 15.0 || p->value != std::floor(p->value)))
+      fail(fmt::format("G103 {}: the look-ahead limit P is a whole number from 0 to 15", p->text));
+    note_once("G103", line_,
+              fmt::format("{}: look-ahead limit (Haas); it changes how the machine plans its "
+                          "speed, not the programmed path: ignored",
+                          g103->text));
+  }
 }
 
 void Interpreter::first_move_checks(const Decoded& d) {

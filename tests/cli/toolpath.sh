@@ -32,6 +32,14 @@ v=$(awk -F': ' '/"volume_removed_mm3"/ { gsub(/,/, "", $2); print $2 }' "$WORK/g
 awk -v v="$v" 'BEGIN { a = 40 * 24 - (4 - 3.14159265) * 25; exit !(v > 0.97 * a * 3 && v < 1.01 * a * 3) }' \
   || fail "removed volume $v mm^3"
 
+# The stock an earlier run left (stock.height_map): the same pocket 1 mm lower
+# removes one more millimetre of the pocket's area, 938.5 mm^3.
+"$ROBOMILL" toolpath "$G" --set "stock.height_map=$WORK/g/stock.csv" --set "toolpath.origin=[0, 0, -1]" \
+  --out "$WORK/again" --quiet || fail "height-map stock exit code"
+v=$(awk -F': ' '/"volume_removed_mm3"/ { gsub(/,/, "", $2); print $2 }' "$WORK/again/summary.json")
+awk -v v="$v" 'BEGIN { a = 40 * 24 - (4 - 3.14159265) * 25; exit !(v > 0.97 * a && v < 1.03 * a) }' \
+  || fail "removed volume from the height map $v mm^3"
+
 "$ROBOMILL" toolpath "$K" --out "$WORK/k" --quiet || fail "krl example exit code"
 [ -s "$WORK/k/samples.csv" ] || fail "krl: no samples.csv"
 "$ROBOMILL" toolpath "$A" --out "$WORK/a" --quiet || fail "apt example exit code"
@@ -49,6 +57,10 @@ expect_exit2 "toolpath.origin" toolpath "$G" --set "toolpath.origin=[1000, 0, 0]
 # A missing program, a program over max_size, an unknown dialect.
 expect_exit2 "toolpath.file" toolpath "$G" --set "toolpath.file=missing.nc"
 expect_exit2 "max_size" toolpath "$G" --set "toolpath.max_size=0.0001"
+truncate -s 100M "$WORK/huge.nc"  # a 100 MB program (sparse): refused before it is read
+expect_exit2 "100.0 MiB, more than toolpath.max_size" toolpath "$G" --set "toolpath.file=$WORK/huge.nc"
+printf 'G90 G21\nT1 M6\nS8000 M3\nG0 X10 Y20 Z25\nG1 Z17 F600\nG1 X20 E5\n' > "$WORK/unknown.nc"
+expect_exit2 "unknown.nc (line 6)" toolpath "$G" --set "toolpath.file=$WORK/unknown.nc"
 expect_exit2 "format: gcode, apt or krl" toolpath "$G" --set "toolpath.file=pocket.txt"
 # The job: a stock box inside out, KRL keys on G-code.
 expect_exit2 "stock.box.max" toolpath "$G" --set "stock.box.max=[60, 40, -5]"

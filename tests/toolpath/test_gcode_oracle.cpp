@@ -2,52 +2,28 @@
 //
 // For every program in tests/toolpath/gcode/ (*.ngc, *.nc; not bad/), the
 // standalone interpreter `rs274` (Debian package linuxcnc-uspace) prints the
-// canonical machining calls it makes (STRAIGHT_TRAVERSE, STRAIGHT_FEED,
-// ARC_FEED, DWELL, SET_FEED_RATE, ...). We replay them into end points,
-// arc centres and turns, feeds, spindle speeds, tools and source lines and
-// compare them with read_gcode's moves:
-//  * rs274 prints 4 decimals in the program's unit, so positions and centres
-//    agree to half a unit of the last printed digit (5e-5 mm or 5e-5 in), not
-//    to 1e-6 mm;
-//  * rs274 tags each call with the block's N number, so the program is fed
-//    to it with every line numbered N<line> and the tags give source lines;
-//  * rs274 reads work offsets from a parameter file (in inches without an
-//    INI file); we give it G55 = (4, 2, -0.5) in and read_gcode the same
-//    offset in metres, and compare in the G54 frame;
-//  * zero-length straight moves, which rs274 prints at the start of some
-//    cycles and read_gcode drops, are skipped.
-// Without rs274 on the machine the tests are skipped, not failed.
+// canonical machining calls it makes; rs274_oracle.hpp replays them into
+// moves and compares them with read_gcode's (how, and to what precision, is
+// described there). Without rs274 on the machine the tests are skipped, not
+// failed.
 
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <algorithm>
-#include <array>
 #include <cctype>
-#include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <filesystem>
-#include <fstream>
-#include <numbers>
 #include <optional>
-#include <regex>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "robomill/core/error.hpp"
 #include "robomill/io/program_readers.hpp"
+#include "toolpath/rs274_oracle.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
-using robomill::toolpath::MotionKind;
-using robomill::toolpath::Move;
-
-constexpr double kMetresPerInch = 0.0254;
-const Eigen::Vector3d kG55OffsetInch(4.0, 2.0, -0.5);
+using namespace robomill::test::rs274;
 
 fs::path corpus_dir() {
   return fs::path(ROBOMILL_SOURCE_DIR) / "tests/toolpath/gcode";
@@ -64,270 +40,6 @@ std::vector<std::string> corpus_programs() {
   return names;
 }
 
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-std::optional<std::string> find_rs274() {
-  if (FILE* pipe = popen("command -v rs274 2>/dev/null", "r")) {
-    std::array<char, 512> buffer{};
-    std::string path;
-    while (fgets(buffer.data(), buffer.size(), pipe))
-      path += buffer.data();
-    pclose(pipe);
-    while (!path.empty() && (path.back() == '\n' || path.back() == '\r'))
-      path.pop_back();
-    if (!path.empty())
-      return path;
-  }
-  if (fs::exists("/usr/bin/rs274"))
-    return "/usr/bin/rs274";
-  return std::nullopt;
-}
-
-/// The program with every block numbered by its line (N<line>), so that
-/// rs274's N tags name source lines. Comment, %, O and blank lines stay.
-std::string number_lines(const std::string& text) {
-  std::istringstream in(text);
-  std::ostringstream out;
-  std::string line;
-  int number = 0;
-  while (std::getline(in, line)) {
-    ++number;
-    std::size_t i = line.find_first_not_of(" \t");
-    std::string prefix;
-    if (i != std::string::npos && line[i] == '/') {
-      prefix = line.substr(0, i + 1);
-      line = line.substr(i + 1);
-      i = line.find_first_not_of(" \t");
-    }
-    const char first = i == std::string::npos ? '\r' : line[i];
-    if (std::string("%(;Oo:\r").find(first) != std::string::npos) {
-      out << prefix << line << '\n';
-      continue;
-    }
-    if (first == 'N' || first == 'n') {
-      std::size_t j = i + 1;
-      while (j < line.size() && std::isdigit(static_cast<unsigned char>(line[j])))
-        ++j;
-      line = line.substr(0, i) + "N" + std::to_string(number) + line.substr(j);
-    } else {
-      line = "N" + std::to_string(number) + " " + line;
-    }
-    out << prefix << line << '\n';
-  }
-  return out.str();
-}
-
-/// One motion as rs274 reports it, in metres in the G54 frame.
-struct CanonMove {
-  MotionKind kind = MotionKind::linear;
-  Eigen::Vector3d end_m = Eigen::Vector3d::Zero();
-  Eigen::Vector3d centre_m = Eigen::Vector3d::Zero();  // arcs, in the start's plane
-  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();   // arcs
-  double sweep_rad = 0.0;                              // arcs
-  double feed_m_s = 0.0;
-  double feed_tolerance_m_s = 0.0;
-  double spindle_rad_s = 0.0;
-  int tool = 0;
-  double dwell_s = 0.0;
-  int line = 0;
-  double tolerance_m = 0.0;  // half the last printed digit
-};
-
-std::vector<double> numbers_in(const std::string& args) {
-  std::vector<double> values;
-  std::string token;
-  std::istringstream in(args);
-  while (std::getline(in, token, ',')) {
-    std::istringstream field(token);
-    double value = 0.0;
-    while (field >> value)  // "0.0000 0.0000" in a few calls: take every number
-      values.push_back(value);
-  }
-  return values;
-}
-
-/// Replays rs274's canonical calls into moves.
-class CanonReplay {
- public:
-  void call(const std::string& name, const std::string& args, int line) {
-    const std::vector<double> v = numbers_in(args);
-    if (name == "USE_LENGTH_UNITS") {
-      unit_m_ = args.find("INCHES") != std::string::npos ? kMetresPerInch : 1e-3;
-    } else if (name == "SET_G5X_OFFSET") {
-      offset_m_ = Eigen::Vector3d(v.at(1), v.at(2), v.at(3)) * unit_m_;
-    } else if (name == "SELECT_PLANE") {
-      plane_ = args.find("XZ") != std::string::npos   ? std::array<int, 3>{2, 0, 1}
-               : args.find("YZ") != std::string::npos ? std::array<int, 3>{1, 2, 0}
-                                                      : std::array<int, 3>{0, 1, 2};
-    } else if (name == "SET_FEED_MODE") {
-      per_revolution_ = v.at(1) != 0.0;
-    } else if (name == "SET_FEED_RATE") {
-      feed_units_ = v.at(0) * unit_m_;
-    } else if (name == "SET_SPINDLE_SPEED") {
-      rpm_ = v.at(1);
-    } else if (name == "START_SPINDLE_CLOCKWISE") {
-      direction_ = 1;
-    } else if (name == "START_SPINDLE_COUNTERCLOCKWISE") {
-      direction_ = -1;
-    } else if (name == "STOP_SPINDLE_TURNING") {
-      direction_ = 0;
-    } else if (name == "CHANGE_TOOL") {
-      tool_ = static_cast<int>(v.at(0));
-    } else if (name == "STRAIGHT_TRAVERSE" || name == "STRAIGHT_FEED") {
-      const Eigen::Vector3d end = Eigen::Vector3d(v.at(0), v.at(1), v.at(2)) * unit_m_ + offset_m_;
-      // rs274 prints a move for `G1` alone and at the start of some cycles;
-      // read_gcode drops moves of no length. Equal within the printed digits
-      // (after a G20/G21 switch the rounded position moves by < 1e-4 units).
-      const double printed_m = std::max(0.51e-4 * unit_m_, position_tolerance_m_) + 1e-12;
-      if ((end - position_m_).lpNorm<Eigen::Infinity>() > printed_m) {
-        CanonMove move = base(line);
-        move.kind = name == "STRAIGHT_TRAVERSE" ? MotionKind::rapid : MotionKind::linear;
-        if (move.kind == MotionKind::rapid)
-          move.feed_m_s = move.feed_tolerance_m_s = 0.0;
-        move.end_m = end;
-        moves.push_back(move);
-      }
-      position_m_ = end;
-      position_tolerance_m_ = 0.51e-4 * unit_m_;
-    } else if (name == "ARC_FEED") {
-      arc(v, line);
-    } else if (name == "DWELL") {
-      CanonMove move = base(line);
-      move.kind = MotionKind::dwell;
-      move.end_m = position_m_;
-      move.dwell_s = v.at(0);
-      move.feed_m_s = move.feed_tolerance_m_s = 0.0;
-      moves.push_back(move);
-    }
-  }
-
-  std::vector<CanonMove> moves;
-
- private:
-  CanonMove base(int line) const {
-    CanonMove move;
-    move.line = line;
-    move.tool = tool_;
-    move.spindle_rad_s = direction_ * rpm_ * 2.0 * std::numbers::pi / 60.0;
-    const double scale = per_revolution_ ? rpm_ : 1.0;
-    move.feed_m_s = feed_units_ * scale / 60.0;
-    move.feed_tolerance_m_s = 0.6e-4 * unit_m_ * scale / 60.0 + 1e-12;
-    move.tolerance_m = 0.51e-4 * unit_m_ + 1e-12;
-    return move;
-  }
-
-  // ARC_FEED(first_end, second_end, first_centre, second_centre, rotation,
-  // axis_end, a, b, c): rotation > 0 counter-clockwise from the first axis
-  // to the second, |rotation| turns begun.
-  void arc(const std::vector<double>& v, int line) {
-    const auto [first, second, axis] = plane_;
-    CanonMove move = base(line);
-    move.kind = MotionKind::arc;
-    Eigen::Vector3d end = Eigen::Vector3d::Zero();
-    end[first] = v.at(0);
-    end[second] = v.at(1);
-    end[axis] = v.at(5);
-    move.end_m = end * unit_m_ + offset_m_;
-    move.centre_m = position_m_;
-    move.centre_m[first] = v.at(2) * unit_m_ + offset_m_[first];
-    move.centre_m[second] = v.at(3) * unit_m_ + offset_m_[second];
-    move.normal = Eigen::Vector3d::Zero();
-    move.normal[axis] = 1.0;
-    const int rotation = static_cast<int>(v.at(4));
-    const double a0 = std::atan2(position_m_[second] - move.centre_m[second],
-                                 position_m_[first] - move.centre_m[first]);
-    const double a1 = std::atan2(move.end_m[second] - move.centre_m[second],
-                                 move.end_m[first] - move.centre_m[first]);
-    const double two_pi = 2.0 * std::numbers::pi;
-    double sweep = a1 - a0;  // counter-clockwise, brought into (0, 2π]
-    while (sweep <= 1e-9)
-      sweep += two_pi;
-    while (sweep > two_pi + 1e-9)
-      sweep -= two_pi;
-    if (rotation < 0)
-      sweep = sweep >= two_pi - 1e-9 ? -two_pi : sweep - two_pi;
-    const int extra = std::abs(rotation) - 1;
-    move.sweep_rad = sweep + (rotation < 0 ? -1.0 : 1.0) * two_pi * extra;
-    moves.push_back(move);
-    position_m_ = move.end_m;
-    position_tolerance_m_ = 0.51e-4 * unit_m_;
-  }
-
-  double unit_m_ = 1e-3;
-  Eigen::Vector3d offset_m_ = Eigen::Vector3d::Zero();
-  Eigen::Vector3d position_m_ = Eigen::Vector3d::Zero();
-  double position_tolerance_m_ = 0.0;  // of the printed position
-  std::array<int, 3> plane_{0, 1, 2};
-  bool per_revolution_ = false;
-  double feed_units_ = 0.0;
-  double rpm_ = 0.0;
-  int direction_ = 0;
-  int tool_ = 0;
-};
-
-struct OracleRun {
-  int status = -1;
-  std::string output;
-  std::vector<CanonMove> moves;
-};
-
-OracleRun run_rs274(const std::string& rs274, const std::string& program_text,
-                    const std::string& stem) {
-  const fs::path dir = fs::temp_directory_path() /
-                       ("robomill-gcode-oracle-" + std::to_string(::getpid()) + "-" + stem);
-  fs::create_directories(dir);
-  const fs::path program = dir / "program.ngc";
-  const fs::path vars = dir / "oracle.var";
-  const fs::path tools = dir / "oracle.tbl";
-  std::ofstream(program, std::ios::binary) << number_lines(program_text);
-  // G55 (parameters 5241-5243) in inches: rs274 without an INI works in inches.
-  std::ofstream(vars) << "5161 0\n5162 0\n5163 0\n5241 " << kG55OffsetInch.x() << "\n5242 "
-                      << kG55OffsetInch.y() << "\n5243 " << kG55OffsetInch.z() << "\n";
-  // Tools 0-99, all of length 0: tool lengths do not change printed points.
-  {
-    std::ofstream table(tools);
-    for (int tool = 1; tool < 100; ++tool)
-      table << "T" << tool << " P" << tool << " Z0 D6 ;\n";
-  }
-  OracleRun run;
-  const std::string command = "cd '" + dir.string() + "' && '" + rs274 +
-                              "' -t oracle.tbl -v oracle.var -g program.ngc 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr)
-    return run;
-  std::array<char, 4096> buffer{};
-  while (fgets(buffer.data(), buffer.size(), pipe))
-    run.output += buffer.data();
-  run.status = pclose(pipe);
-  fs::remove_all(dir);
-
-  static const std::regex kCall(R"(^\s*\d+\s+N([0-9]+|\.+)\s+([A-Z_0-9]+)\((.*)\)\s*$)");
-  CanonReplay replay;
-  std::istringstream lines(run.output);
-  std::string text;
-  while (std::getline(lines, text)) {
-    std::smatch match;
-    if (!std::regex_match(text, match, kCall))
-      continue;
-    const std::string tag = match[1];
-    const int line = tag.find('.') == std::string::npos ? std::stoi(tag) : 0;
-    replay.call(match[2], match[3], line);
-  }
-  run.moves = std::move(replay.moves);
-  return run;
-}
-
-std::string describe(const Eigen::Vector3d& p) {
-  std::ostringstream out;
-  out << "(" << p.x() * 1e3 << ", " << p.y() * 1e3 << ", " << p.z() * 1e3 << ") mm";
-  return out.str();
-}
-
 class GcodeOracle : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(GcodeOracle, MovesMatchLinuxCncRs274) {
@@ -341,39 +53,12 @@ TEST_P(GcodeOracle, MovesMatchLinuxCncRs274) {
   ASSERT_EQ(oracle.status, 0) << "rs274 refused " << GetParam() << ":\n" << oracle.output;
   ASSERT_FALSE(oracle.moves.empty()) << oracle.output;
 
-  robomill::io::GcodeOptions options;
-  options.source_name = GetParam();
-  options.work_offsets_m[2] = kG55OffsetInch * kMetresPerInch;
-  options.home_z_m = 0.0;  // rs274's G28 home (parameters 5161-5163) is the machine origin
-  const robomill::toolpath::Program program = robomill::io::read_gcode(text, options);
+  const robomill::toolpath::Program program =
+      robomill::io::read_gcode(text, oracle_options(GetParam()));
 
   ASSERT_EQ(program.moves.size(), oracle.moves.size()) << "rs274 output:\n" << oracle.output;
-  Eigen::Vector3d start = Eigen::Vector3d::Zero();
-  for (std::size_t n = 0; n < oracle.moves.size(); ++n) {
-    const CanonMove& expected = oracle.moves[n];
-    const Move& move = program.moves[n];
-    SCOPED_TRACE("move " + std::to_string(n) + ", rs274 line " + std::to_string(expected.line) +
-                 ", ours line " + std::to_string(move.line) + ", end " + describe(move.end_m) +
-                 " vs rs274 " + describe(expected.end_m));
-    ASSERT_EQ(move.kind, expected.kind);
-    ASSERT_EQ(move.line, expected.line);
-    EXPECT_LE((move.start_m - start).norm(), 1e-12) << "moves are not chained";
-    ASSERT_LE((move.end_m - expected.end_m).lpNorm<Eigen::Infinity>(), expected.tolerance_m);
-    EXPECT_NEAR(move.feed_m_s, expected.feed_m_s, expected.feed_tolerance_m_s);
-    EXPECT_NEAR(move.spindle_rad_s, expected.spindle_rad_s, 1e-9);
-    EXPECT_EQ(move.tool, expected.tool);
-    EXPECT_NEAR(move.dwell_s, expected.dwell_s, 0.6e-4);
-    EXPECT_TRUE(move.axis_start.isApprox(Eigen::Vector3d::UnitZ()));
-    if (expected.kind == MotionKind::arc) {
-      ASSERT_LE((move.centre_m - expected.centre_m).lpNorm<Eigen::Infinity>(),
-                expected.tolerance_m);
-      const Eigen::Vector3d ours = move.normal * move.sweep_rad;
-      const Eigen::Vector3d theirs = expected.normal * expected.sweep_rad;
-      ASSERT_LE((ours - theirs).norm(), 2e-3)
-          << "sweep " << move.sweep_rad << " rad vs rs274 " << expected.sweep_rad << " rad";
-    }
-    start = move.end_m;
-  }
+  const std::string difference = first_difference(program, oracle.moves);
+  EXPECT_TRUE(difference.empty()) << difference;
 }
 
 INSTANTIATE_TEST_SUITE_P(Corpus, GcodeOracle, ::testing::ValuesIn(corpus_programs()),
