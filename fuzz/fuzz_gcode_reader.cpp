@@ -12,39 +12,9 @@
 #include <cstdint>
 #include <string_view>
 
+#include "program_checks.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/io/program_readers.hpp"
-
-namespace {
-
-bool finite(const Eigen::Vector3d& v) {
-  return v.allFinite();
-}
-
-bool unit(const Eigen::Vector3d& v) {
-  return std::abs(v.norm() - 1.0) <= 1e-9;
-}
-
-void check(const robomill::toolpath::Program& program) {
-  Eigen::Vector3d previous = Eigen::Vector3d::Zero();
-  for (const robomill::toolpath::Move& move : program.moves) {
-    if (!finite(move.start_m) || !finite(move.end_m) || !finite(move.centre_m) ||
-        !std::isfinite(move.sweep_rad) || !std::isfinite(move.feed_m_s) ||
-        !std::isfinite(move.spindle_rad_s) || !std::isfinite(move.dwell_s))
-      __builtin_trap();
-    if (!unit(move.axis_start) || !unit(move.axis_end))
-      __builtin_trap();
-    if (move.kind == robomill::toolpath::MotionKind::arc && !unit(move.normal))
-      __builtin_trap();
-    if (move.feed_m_s < 0.0 || move.dwell_s < 0.0 || move.line < 1)
-      __builtin_trap();
-    if ((move.start_m - previous).norm() > 1e-9 * (1.0 + previous.norm()))
-      __builtin_trap();
-    previous = move.end_m;
-  }
-}
-
-}  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view bytes(reinterpret_cast<const char*>(data), size);
@@ -54,7 +24,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   options.work_offsets_m[2] = Eigen::Vector3d(0.1, 0.05, -0.01);
   options.home_z_m = 0.3;
   try {
-    check(robomill::io::read_gcode(bytes, options));
+    robomill::fuzz::check_program(robomill::io::read_gcode(bytes, options), true);
   } catch (const robomill::InputError&) {
     // Refused with a message: the expected outcome for most inputs.
   }

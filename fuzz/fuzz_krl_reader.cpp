@@ -12,32 +12,10 @@
 #include <string>
 #include <string_view>
 
+#include "program_checks.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/io/program_readers.hpp"
 #include "robomill/toolpath/program.hpp"
-
-namespace {
-
-bool unit(const Eigen::Vector3d& v) {
-  return v.allFinite() && std::abs(v.norm() - 1.0) < 1e-9;
-}
-
-void check(const robomill::toolpath::Program& program) {
-  for (const auto& move : program.moves) {
-    if (!move.start_m.allFinite() || !move.end_m.allFinite() || !move.centre_m.allFinite() ||
-        !std::isfinite(move.sweep_rad) || !std::isfinite(move.feed_m_s) ||
-        !std::isfinite(move.dwell_s) || move.feed_m_s < 0.0)
-      __builtin_trap();
-    if (!unit(move.axis_start) || !unit(move.axis_end))
-      __builtin_trap();
-    if (move.kind == robomill::toolpath::MotionKind::arc && !unit(move.normal))
-      __builtin_trap();
-    if (move.line < 1 || static_cast<std::size_t>(move.line) > program.line_count)
-      __builtin_trap();
-  }
-}
-
-}  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view bytes(reinterpret_cast<const char*>(data), size);
@@ -55,7 +33,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   options.bases[1] = base;
   options.tool_direction = (size % 2 == 0) ? 'x' : 'z';
   try {
-    check(robomill::io::read_krl(bytes.substr(0, split), options));
+    robomill::fuzz::check_program(robomill::io::read_krl(bytes.substr(0, split), options), false);
   } catch (const robomill::InputError&) {
     // Refused with a message: the expected outcome for most inputs.
   }

@@ -52,6 +52,8 @@ nlohmann::json values(const std::vector<double>& numbers);
 std::vector<std::size_t> thin(std::size_t count, std::size_t limit);
 std::vector<double> pick(const std::vector<double>& numbers, const std::vector<std::size_t>& at);
 double rounded(double value);
+/// A column's distinct finite values as the page shows them (rounded), sorted.
+std::vector<double> levels_of(const std::vector<double>& values);
 
 /// A Plotly figure: data traces and a layout, with a title and a caption.
 struct Figure {

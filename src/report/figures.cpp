@@ -16,6 +16,15 @@
 #include "robomill/io/uff58.hpp"
 
 namespace robomill::report::detail {
+
+std::vector<double> levels_of(const std::vector<double>& v) {
+  std::set<double> s;
+  for (double x : v)
+    if (std::isfinite(x))
+      s.insert(rounded(x));
+  return {s.begin(), s.end()};
+}
+
 namespace {
 
 using nlohmann::json;
@@ -133,14 +142,6 @@ struct Axis {
   std::string column;
   std::vector<double> levels;  // sorted distinct values
 };
-
-std::vector<double> levels_of(const std::vector<double>& v) {
-  std::set<double> s;
-  for (double x : v)
-    if (std::isfinite(x))
-      s.insert(rounded(x));
-  return {s.begin(), s.end()};
-}
 
 std::size_t level_index(const std::vector<double>& levels, double v) {
   const auto it = std::lower_bound(levels.begin(), levels.end(), rounded(v));

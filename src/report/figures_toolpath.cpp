@@ -354,15 +354,6 @@ void time_figure(const Table& s, const json& summary, Content& c) {
 
 // ------------------------------------------------------------ the stock
 
-/// Distinct values of a column, sorted (rounded as the page shows them).
-std::vector<double> levels_of(const std::vector<double>& v) {
-  std::set<double> s;
-  for (double x : v)
-    if (std::isfinite(x))
-      s.insert(rounded(x));
-  return {s.begin(), s.end()};
-}
-
 /// Nodes 0, k, 2k, ... and the last (the stock's far edge).
 std::vector<std::size_t> every_kth(std::size_t count, std::size_t k) {
   std::vector<std::size_t> at;
