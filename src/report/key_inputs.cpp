@@ -188,6 +188,29 @@ std::string key_inputs_json(const io::Job& job) {
              fmt::format("{} × {} × {} points, {} redundancy angles", a.counts[0], a.counts[1],
                          a.counts[2], a.redundancy_rad.size()));
   }
+  if (job.toolpath) {
+    const io::ToolpathSettings& t = *job.toolpath;
+    static constexpr const char* kFormats[] = {"G-code", "APT CL", "KUKA KRL"};
+    rows.add("toolpath", "program",
+             fmt::format("{} ({})", t.file_text, kFormats[static_cast<int>(t.format)]));
+    const Eigen::Vector3d origin = t.program_to_workpiece.translation();
+    rows.add("toolpath", "origin",
+             fmt::format("[{}, {}, {}] mm", num(origin.x() * 1e3), num(origin.y() * 1e3),
+                         num(origin.z() * 1e3)));
+    for (const auto& [number, spec] : t.tools)
+      rows.add("toolpath", fmt::format("T{}", number),
+               fmt::format("{} end mill, D {} mm, {} teeth, helix {}°",
+                           spec.type == tool::ToolType::ball ? "ball" : "flat",
+                           num(spec.diameter_m * 1e3), spec.teeth, num(spec.helix_rad * kDeg)));
+  }
+  if (job.stock) {
+    const io::StockSettings& s = *job.stock;
+    rows.add("stock", "box",
+             fmt::format("[{}, {}, {}] – [{}, {}, {}] mm", num(s.min_m.x() * 1e3),
+                         num(s.min_m.y() * 1e3), num(s.min_m.z() * 1e3), num(s.max_m.x() * 1e3),
+                         num(s.max_m.y() * 1e3), num(s.max_m.z() * 1e3)));
+    rows.add("stock", "resolution", with_unit(s.resolution_m * 1e3, "mm"));
+  }
   if (!job.experiments.empty()) {
     int chatter = 0;
     for (const io::Experiment& e : job.experiments)
