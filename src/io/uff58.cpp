@@ -413,7 +413,9 @@ struct Points {
       const std::complex<double> scaled = std::complex<double>(real, value) * factor;
       if (!std::isfinite(scaled.real()) || !std::isfinite(scaled.imag()))
         reader.fail(line, "value overflows after conversion to SI units");
-      frf->frequency_hz.push_back(abscissa_hz);
+      // A written "-0" (or a negative-zero start of an even grid) is 0 Hz: the
+      // sign of a zero frequency means nothing and would not survive writing.
+      frf->frequency_hz.push_back(abscissa_hz == 0.0 ? 0.0 : abscissa_hz);
       frf->value.push_back(scaled);
     }
   }
