@@ -24,7 +24,8 @@ demo: build
 	./$(BUILD)/robomill stability examples/demo.yaml --out out/demo/stability
 	./$(BUILD)/robomill fit-modes examples/003_kr270_measured_frf.yaml --out out/demo/fit-modes
 	./$(BUILD)/robomill stability examples/003_kr270_measured_frf.yaml --out out/demo/measured-stability
-	@echo "demo: results in out/demo/forces (forces.csv, summary.json), out/demo/stability (sld.csv, sld_envelope.csv, summary.json), out/demo/fit-modes (modes.csv, frf_fit.csv, modes.yaml) and out/demo/measured-stability (sld.csv from the fitted modes)"
+	./$(BUILD)/robomill toolpath examples/toolpath_pocket_gcode.yaml --out out/demo/toolpath
+	@echo "demo: results in out/demo/forces (forces.csv, summary.json), out/demo/stability (sld.csv, sld_envelope.csv, summary.json), out/demo/fit-modes (modes.csv, frf_fit.csv, modes.yaml), out/demo/measured-stability (sld.csv from the fitted modes) and out/demo/toolpath (a G-code pocket: samples.csv, moves.csv, stock.csv, report.html)"
 
 # The generated pages of docs/: the job-file reference from the job schema,
 # and the validation report from what the paper-validation tests record
