@@ -1,13 +1,15 @@
 // Stability-lobe throughput on the literature's benchmark grid (DESIGN.md §5;
 // the stability issue's speed criteria): one-DOF benchmark, a/D = 0.05, 200
 // speeds from 5 000 to 25 000 rpm x 100 depths up to 10 mm, 40 steps per
-// tooth period, full discretization; and the boundary mode giving the 200
+// tooth period, for SDM, FDM and FDM2 and 1-4 modes (docs/stability-speed.md
+// has the figures and the command); and the boundary mode giving the 200
 // limits to 0.1 % depth precision.
 
 #include <benchmark/benchmark.h>
 
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 #include "../tests/stability/benchmark_1dof.hpp"
 #include "robomill/stability/lobes.hpp"
@@ -20,8 +22,29 @@ std::vector<double> benchmark_speeds() {
   return stability::linear_range(test::rpm(5000.0), test::rpm(25000.0), 200);
 }
 
+/// The benchmark with `modes` modes: the 922 Hz mode along x, then modes at
+/// 1.3x, 1.7x … its frequency alternating between y and x (same ζ, same
+/// modal stiffness), so that the state grows by one modal coordinate per mode.
+stability::RegenerativeModel benchmark_modes(int modes) {
+  if (modes == 1)
+    return test::benchmark_1dof(0.05);
+  const auto one = test::benchmark_1dof(0.05);
+  std::vector<dynamics::Mode> list;
+  const double stiffness = 0.03993 * std::pow(2.0 * std::numbers::pi * 922.0, 2);
+  for (int i = 0; i < modes; ++i) {
+    list.push_back(dynamics::directional_mode(i % 2, 922.0 * (1.0 + 0.3 * i), 0.011, stiffness));
+  }
+  return stability::RegenerativeModel(one.tool(), one.law(), one.process(),
+                                      dynamics::ModalModel(list));
+}
+
+const char* method_name(int method) {
+  return method == 0 ? "sdm" : method == 1 ? "fdm" : "fdm2";
+}
+
+// The peers' workload: 200 speeds x 100 depths, m = 40, one or two threads.
 void BM_BenchmarkMap(benchmark::State& state) {
-  const auto model = test::benchmark_1dof(0.05);
+  const auto model = benchmark_modes(static_cast<int>(state.range(2)));
   stability::LobeOptions options;
   options.method = static_cast<stability::FloquetMethod>(state.range(0));
   options.steps = 40;
@@ -32,25 +55,42 @@ void BM_BenchmarkMap(benchmark::State& state) {
   for (auto _ : state) {
     benchmark::DoNotOptimize(stability::stability_map(model, speeds, depths, options));
   }
+  state.SetLabel(method_name(static_cast<int>(state.range(0))));
+  // The eigenproblem's size D = 2n (+ n for FDM2) + n x the delayed positions
+  // the cut reads (7 of 40 at a/D = 0.05).
+  stability::FloquetSolver solver(options.method,
+                                  {model.modes().natural_rad_s(), model.modes().damping_ratios()},
+                                  options.steps);
+  solver.set_delay(60.0 / (model.tool().teeth() * 10000.0));
+  state.counters["eigenproblem_size"] =
+      static_cast<double>(solver.monodromy(model.sample(1.0, options.steps), 1e-3).rows());
   state.counters["grid_points_per_s"] = benchmark::Counter(
       20000.0 * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_BenchmarkMap)
-    ->ArgNames({"method", "threads"})
-    ->Args({1, 1})
-    ->Args({1, 2})
-    ->Args({0, 2})
+    ->ArgNames({"method", "threads", "modes"})
+    ->Args({0, 1, 1})
+    ->Args({1, 1, 1})
+    ->Args({2, 1, 1})
+    ->Args({0, 1, 2})
+    ->Args({1, 1, 2})
+    ->Args({0, 1, 3})
+    ->Args({1, 1, 3})
+    ->Args({0, 1, 4})
+    ->Args({1, 1, 4})
+    ->Args({1, 2, 1})
+    ->Args({0, 2, 1})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
 void BM_BenchmarkBoundary(benchmark::State& state) {
   const auto model = test::benchmark_1dof(0.05);
   stability::LobeOptions options;
-  options.method = stability::FloquetMethod::fdm;
+  options.method = static_cast<stability::FloquetMethod>(state.range(0));
   options.steps = 40;
   options.depth_max_m = 10e-3;
   options.depth_tolerance = 1e-3;
-  options.threads = static_cast<int>(state.range(0));
+  options.threads = static_cast<int>(state.range(1));
   const auto speeds = benchmark_speeds();
   int evaluations = 0;
   for (auto _ : state) {
@@ -60,11 +100,18 @@ void BM_BenchmarkBoundary(benchmark::State& state) {
       evaluations += p.evaluations;
     benchmark::DoNotOptimize(points);
   }
+  state.SetLabel(method_name(static_cast<int>(state.range(0))));
   state.counters["floquet_solves"] = evaluations;
   state.counters["limits_per_s"] = benchmark::Counter(
       200.0 * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
-BENCHMARK(BM_BenchmarkBoundary)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_BenchmarkBoundary)
+    ->ArgNames({"method", "threads"})
+    ->Args({0, 1})
+    ->Args({1, 1})
+    ->Args({1, 2})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 }  // namespace
 

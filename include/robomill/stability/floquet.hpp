@@ -26,6 +26,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <complex>
+#include <memory>
 #include <vector>
 
 #include "robomill/stability/regenerative_model.hpp"
@@ -47,9 +48,21 @@ struct ModalDynamics {
 };
 
 /// A reusable workspace for one thread: sized once for n modes and m steps.
+///
+/// Cost (the stability issue's speed work, docs/stability-speed.md): a step
+/// whose coupling (and process damping) is zero — the tooth out of the cut —
+/// is the free flight x_{k+1} = e^{A0 h} x_k, so a run of r such steps is one
+/// product with (e^{A0 h})^r, precomputed per speed; the delayed positions a
+/// step reads are columns of the identity in the initial state, so their terms
+/// are added to two column blocks instead of multiplying the history; and the
+/// per-step algebra runs on fixed-size matrices for 1 … 4 modes (dynamic
+/// beyond). The multipliers are those of the step-by-step product to round-off.
 class FloquetSolver {
  public:
   FloquetSolver(FloquetMethod method, const ModalDynamics& dynamics, int steps);
+  ~FloquetSolver();
+  FloquetSolver(FloquetSolver&&) noexcept;
+  FloquetSolver& operator=(FloquetSolver&&) noexcept;
 
   /// Prepares the step integrals for a tooth period τ (call once per speed).
   void set_delay(double delay_s);
@@ -72,27 +85,16 @@ class FloquetSolver {
   int state_size() const noexcept { return state_size_; }
   FloquetMethod method() const noexcept { return method_; }
 
- private:
-  void sdm_step_matrices(const Eigen::MatrixXd& mean_coupling, const Eigen::MatrixXd* mean_damping,
-                         double scale, double damping_scale);
+  /// The step algebra for a number of modes (fixed-size or dynamic), defined
+  /// in floquet.cpp.
+  class Kernel;
 
+ private:
   FloquetMethod method_;
-  int modes_;
   int steps_;
   int state_size_;
-  double delay_s_ = 0.0;
-  Eigen::MatrixXd a0_;
-  // FDM integrals ∫0^h e^{A0(h−s)} L(s) ds for the interpolation weights.
-  Eigen::MatrixXd phi0_, phi_prev_, phi_now_, phi_next_;  // e^{A0 h}, weights of nodes k−1, k, k+1
-  Eigen::MatrixXd delay_now_, delay_next_;                // linear weights for the delayed term
-  // Workspace.
-  Eigen::MatrixXd history_, rows_x_, rows_x_prev_, new_rows_, solved_rows_, lhs_, rhs_block_;
-  std::vector<int> active_slots_;  // history slots whose delayed position is read
-  // Default-constructed: the first compute() sizes their storage, later ones
-  // of the same size reuse it (no allocation per solve after the first).
-  Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
-  Eigen::MatrixXd sdm_exp_, sdm_delay_a_, sdm_delay_b_;
-  Eigen::MatrixXd psi_;  // the monodromy matrix in logical order
+  bool delay_set_ = false;
+  std::unique_ptr<Kernel> kernel_;
   Eigen::EigenSolver<Eigen::MatrixXd> eigen_;
 };
 
