@@ -166,6 +166,40 @@ def test_override_errors(cli, source):
     assert stderr == f"robomill: error: {error.value}"
 
 
+def test_list_index_overrides_match_set(cli, source, tmp_path):
+    """`--set` into a list (dynamics.modes.0.zeta): the same job as the command
+    line's, the bracket form the same override, and the same errors."""
+    job_file = source / "examples" / "demo.yaml"
+    run_cli(cli, ["stability", job_file, "--set", "stability.speeds.count=20",
+                  "--set", "dynamics.modes.0.zeta=3 %"], tmp_path / "cli")
+    dotted = robomill.stability(robomill.Job(
+        job_file, {"stability.speeds.count": 20, "dynamics.modes.0.zeta": "3 %"}))
+    assert_same_as_cli(dotted, tmp_path / "cli")
+    bracket = robomill.stability(robomill.Job(
+        job_file, ["stability.speeds.count=20", "dynamics.modes[0].zeta=3 %"]))
+    np.testing.assert_array_equal(dotted["sld"]["depth_limit_mm"], bracket["sld"]["depth_limit_mm"])
+    base = robomill.stability(robomill.Job(job_file, {"stability.speeds.count": 20}))
+    assert not np.array_equal(base["sld"]["depth_limit_mm"], dotted["sld"]["depth_limit_mm"])
+    # A Python list is a whole list, a dict one entry (the length appends).
+    modes = [{"direction": "y", "fn": "19.88 Hz", "zeta": "3 %", "k": "3.65e6 N/m"},
+             {"direction": "y", "fn": "77.17 Hz", "zeta": "5.15 %", "k": "5.00e6 N/m"},
+             {"direction": "x", "fn": "17.8 Hz", "zeta": "1.76 %", "k": "2.31e6 N/m"}]
+    whole = robomill.Job(job_file, {"stability.speeds.count": 20, "dynamics.modes": modes,
+                                    "dynamics.modes.3": {"direction": "x", "fn": "47.3 Hz",
+                                                         "zeta": "0.74 %", "k": 33.6e6}})
+    np.testing.assert_array_equal(robomill.stability(whole)["sld"]["depth_limit_mm"],
+                                  dotted["sld"]["depth_limit_mm"])
+    for assignment in ("dynamics.modes.5.zeta=2%", "dynamics.modes.-1.zeta=2%"):
+        code, stderr = cli_error(cli, "validate", job_file, "--set", assignment)
+        assert code == 2
+        with pytest.raises(robomill.InputError) as error:
+            robomill.Job(job_file, [assignment])
+        assert stderr == f"robomill: error: {error.value}"
+    with pytest.raises(robomill.InputError, match="index 5 is out of range; dynamics.modes has 4 "
+                                                  "entries") as error:
+        robomill.Job(job_file, {"dynamics.modes.5.zeta": "2 %"})
+    assert error.value.field == "dynamics.modes"
+
 def test_missing_file(cli, tmp_path):
     code, stderr = cli_error(cli, "validate", tmp_path / "none.yaml")
     with pytest.raises(robomill.InputError) as error:

@@ -21,34 +21,45 @@ bool is_key_char(char c) {
   return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
 }
 
-bool valid_override_path(std::string_view path) {
-  // Dotted names of [A-Za-z0-9_], each optionally followed by [index]s:
-  // process.ae, dynamics.modes[0].fn.
-  bool expect_name = true;
+bool is_digit(char c) {
+  return c >= '0' && c <= '9';
+}
+
+// Why `path` is not a key path, "" when it is one: dotted names of
+// [A-Za-z0-9_], each optionally followed by [index]s (process.ae,
+// dynamics.modes[0].fn, dynamics.modes.0.fn).
+std::string override_path_problem(std::string_view path) {
+  const auto problem_at = [&](std::size_t at) -> std::string {
+    if (at < path.size() && path[at] == '-' && at + 1 < path.size() && is_digit(path[at + 1])) {
+      std::size_t end = at + 1;
+      while (end < path.size() && is_digit(path[end]))
+        ++end;
+      return "list indices count from 0, got " + std::string(path.substr(at, end - at));
+    }
+    return "expected dotted names of letters, digits and '_', such as process.ae, "
+           "dynamics.modes.0.fn or dynamics.modes[0].fn";
+  };
   std::size_t i = 0;
-  while (i < path.size()) {
+  while (true) {
     const std::size_t start = i;
     while (i < path.size() && is_key_char(path[i]))
       ++i;
     if (i == start)
-      return false;
-    expect_name = false;
+      return problem_at(i);
     while (i < path.size() && path[i] == '[') {
       const std::size_t digits = ++i;
-      while (i < path.size() && path[i] >= '0' && path[i] <= '9')
+      while (i < path.size() && is_digit(path[i]))
         ++i;
-      if (i == digits || i - digits > 6 || i >= path.size() || path[i] != ']')
-        return false;
+      if (i == digits || i >= path.size() || path[i] != ']')
+        return problem_at(digits);
       ++i;
     }
     if (i == path.size())
-      break;
+      return "";
     if (path[i] != '.')
-      return false;
+      return problem_at(i);
     ++i;
-    expect_name = true;
   }
-  return !expect_name;
 }
 
 }  // namespace
@@ -68,11 +79,8 @@ Override parse_override(std::string_view assignment) {
   }
   const std::string_view path = trim(assignment.substr(0, equals));
   const std::string_view value = trim(assignment.substr(equals + 1));
-  if (!valid_override_path(path)) {
-    throw InputError("--set", 0,
-                     "invalid key path '" + std::string(path) +
-                         "'; expected dotted names of letters, digits and '_', such as "
-                         "process.ae or dynamics.modes[0].fn");
+  if (const std::string problem = override_path_problem(path); !problem.empty()) {
+    throw InputError("--set", 0, "invalid key path '" + std::string(path) + "'; " + problem);
   }
   if (value.empty()) {
     throw InputError("--set", 0, "missing value after '=' in '" + std::string(assignment) + "'");

@@ -14,12 +14,13 @@
 #include <cmath>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <numbers>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
-#include <variant>
 
 #include "job_parser_atlas.hpp"
 #include "job_parser_deflection.hpp"
@@ -703,15 +704,58 @@ void guard_input(std::string_view text, const std::string& source) {
   }
 }
 
-// One step of an override path: a map key or a list index.
-using PathStep = std::variant<std::string, std::size_t>;
+// One step of an override path as written: a name (`modes`, `T3`, `0`) or a
+// bracket index (`[0]`). A name of digits indexes a list when the node it
+// steps into is a list (`dynamics.modes.0.zeta`) and is a key otherwise
+// (`toolpath.bases.1`, a map keyed by numbers).
+struct PathStep {
+  std::string text;       ///< the name, or the index's digits
+  bool bracket = false;   ///< written `[n]`: always an index
+  bool digits = false;    ///< only digits: an index where the node is a list
+  std::size_t index = 0;  ///< its value when `digits`; SIZE_MAX when it overflows
+};
 
 bool is_key_char(char c) {
   return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
 }
 
-// "dynamics.modes[0].fn" → {dynamics, modes, 0, fn}; nullopt when malformed.
-std::optional<std::vector<PathStep>> split_path(std::string_view path) {
+bool is_digit(char c) {
+  return c >= '0' && c <= '9';
+}
+
+PathStep make_step(std::string_view text, bool bracket) {
+  PathStep step{std::string(text), bracket, !text.empty(), 0};
+  for (const char c : text)
+    step.digits = step.digits && is_digit(c);
+  if (step.digits) {
+    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), step.index);
+    if (error != std::errc{})
+      step.index = std::numeric_limits<std::size_t>::max();  // out of range of any list
+  }
+  return step;
+}
+
+// "dynamics.modes[0].fn" → {dynamics, modes, [0], fn}; "dynamics.modes.0.fn"
+// → {dynamics, modes, 0, fn}. Malformed paths throw, naming the override.
+std::vector<PathStep> split_path(const Override& override_, const std::string& where) {
+  const std::string_view path = override_.path;
+  const auto invalid = [&](std::size_t at) {
+    // "-1" where a name or an index belongs: say that indices start at 0.
+    if (at < path.size() && path[at] == '-') {
+      std::size_t end = at + 1;
+      while (end < path.size() && is_digit(path[end]))
+        ++end;
+      if (end > at + 1) {
+        return InputError(override_.path, 0,
+                          "invalid key path in `" + where + "`: list indices count from 0, got " +
+                              std::string(path.substr(at, end - at)) + " (from --set)");
+      }
+    }
+    return InputError(override_.path, 0,
+                      "invalid key path in `" + where +
+                          "`; expected dotted names such as process.ae, dynamics.modes.0.fn or "
+                          "dynamics.modes[0].fn (from --set)");
+  };
   std::vector<PathStep> steps;
   std::size_t i = 0;
   while (true) {
@@ -719,40 +763,52 @@ std::optional<std::vector<PathStep>> split_path(std::string_view path) {
     while (i < path.size() && is_key_char(path[i]))
       ++i;
     if (i == start)
-      return std::nullopt;
-    steps.emplace_back(std::string(path.substr(start, i - start)));
+      throw invalid(i);
+    steps.push_back(make_step(path.substr(start, i - start), false));
     while (i < path.size() && path[i] == '[') {
       const std::size_t digits_start = ++i;
-      while (i < path.size() && path[i] >= '0' && path[i] <= '9')
+      while (i < path.size() && is_digit(path[i]))
         ++i;
-      if (i == digits_start || i >= path.size() || path[i] != ']' || i - digits_start > 6) {
-        return std::nullopt;
-      }
-      std::size_t index = 0;
-      std::from_chars(path.data() + digits_start, path.data() + i, index);
-      steps.emplace_back(index);
+      if (i == digits_start || i >= path.size() || path[i] != ']')
+        throw invalid(digits_start);
+      steps.push_back(make_step(path.substr(digits_start, i - digits_start), true));
       ++i;
     }
     if (i == path.size())
       return steps;
     if (path[i] != '.')
-      return std::nullopt;
+      throw invalid(i);
     ++i;
   }
 }
 
-std::string join_path(const std::vector<PathStep>& steps, std::size_t count) {
-  std::string out;
-  for (std::size_t k = 0; k < count; ++k) {
-    if (const auto* key = std::get_if<std::string>(&steps[k])) {
-      if (!out.empty())
-        out += ".";
-      out += *key;
-    } else {
-      out += "[" + std::to_string(std::get<std::size_t>(steps[k])) + "]";
+// The schema's kind of field `key` in the section at the job path `parent`
+// ("dynamics.modes[1]" is the schema's "dynamics.modes[]"); nullopt for a
+// field the schema does not list (a typo, or a key of a map keyed by the
+// user such as `toolpath.tools.T3`).
+std::optional<schema::Kind> schema_kind(std::string_view parent, std::string_view key) {
+  std::string section;
+  for (std::size_t i = 0; i < parent.size(); ++i) {
+    section += parent[i];
+    if (parent[i] == '[') {
+      while (i + 1 < parent.size() && parent[i + 1] != ']')
+        ++i;
     }
   }
-  return out;
+  if (section.empty())
+    section = "job";
+  for (const schema::Field& field : schema::fields()) {
+    std::string_view id = field.section;
+    if (const auto variant = id.find("[law="); variant != std::string_view::npos)
+      id = id.substr(0, variant);  // cutting[law=linear] → cutting
+    if (id == section && field.key == key)
+      return field.kind;
+  }
+  return std::nullopt;
+}
+
+std::string entries(std::size_t count) {
+  return std::to_string(count) + (count == 1 ? " entry" : " entries");
 }
 
 // The value under `key` in a map, found by iterating rather than with
@@ -766,14 +822,15 @@ std::optional<YAML::Node> map_child(const YAML::Node& map, const std::string& ke
   return std::nullopt;
 }
 
+// Applies one `--set`: walks the path from the root, creating missing
+// sections, and replaces (or adds) the value at its end. An index steps into
+// an existing list: 0 … size-1 name an entry, and `size` as the last step
+// appends one. The path is recorded in the reader's bracket form
+// (dynamics.modes[0].zeta) whichever form was written, so that errors in the
+// value end with "(from --set)".
 void apply_override(YAML::Node& root, const Override& override_, Provenance& provenance) {
   const std::string where = "--set " + override_.path + "=" + override_.value;
-  const auto steps = split_path(override_.path);
-  if (!steps) {
-    throw InputError(override_.path, 0,
-                     "invalid key path in `" + where +
-                         "`; expected dotted names such as process.ae or dynamics.modes[0].fn");
-  }
+  const std::vector<PathStep> steps = split_path(override_, where);
   // The value meets yaml-cpp too, so it gets the same guards as a job file.
   try {
     guard_input(override_.value, override_.path);
@@ -793,52 +850,76 @@ void apply_override(YAML::Node& root, const Override& override_, Provenance& pro
     root = YAML::Node(YAML::NodeType::Map);
 
   YAML::Node current = root;
-  for (std::size_t k = 0; k < steps->size(); ++k) {
-    const bool last = k + 1 == steps->size();
-    const std::string parent = join_path(*steps, k);
-    if (const auto* key = std::get_if<std::string>(&(*steps)[k])) {
-      if (!current.IsMap()) {
-        throw InputError(parent, 0,
-                         "`" + where + "` needs " + parent + " to be a section, but it is " +
-                             detail::describe_node(current) + " (from --set)");
-      }
-      if (last) {
-        current[*key] = value;
-        break;
-      }
-      std::optional<YAML::Node> child = map_child(current, *key);
-      if (!child || child->IsNull()) {
-        // Create the missing section, e.g. `--set forces.revolutions=3` in a
-        // job without a forces: section.
-        current[*key] = YAML::Node(YAML::NodeType::Map);
-        child = map_child(current, *key);
-        // Everything inside a section created here comes from the command line.
-        provenance.mark_overridden(join_path(*steps, k + 1));
-      }
-      // reset() rebinds `current`; plain assignment would overwrite the node.
-      current.reset(*child);
-    } else {
-      const std::size_t index = std::get<std::size_t>((*steps)[k]);
+  std::string parent;  // the job path of `current`, in bracket form
+  for (std::size_t k = 0; k < steps.size(); ++k) {
+    const PathStep& step = steps[k];
+    const bool last = k + 1 == steps.size();
+    if (step.bracket || (step.digits && current.IsSequence())) {
       if (!current.IsSequence()) {
         throw InputError(parent, 0,
                          "`" + where + "` indexes " + parent + ", which is " +
                              detail::describe_node(current) + ", not a list (from --set)");
       }
-      if (index >= current.size()) {
-        throw InputError(
-            parent, 0,
-            fmt::format("`{}`: index {} is out of range; {} has {} entries (from --set)", where,
-                        index, parent, current.size()));
+      const std::size_t size = current.size();
+      if (step.index > size || (step.index == size && !last)) {
+        std::string message = fmt::format("`{}`: index {} is out of range; {} has {}", where,
+                                          step.text, parent, entries(size));
+        if (step.index == size)
+          message += fmt::format(" (index {} adds an entry only as a whole: --set {}.{}=...)", size,
+                                 parent, size);
+        throw InputError(parent, 0, message + " (from --set)");
       }
+      parent += "[" + std::to_string(step.index) + "]";
       if (last) {
-        current[index] = value;
+        if (step.index == size)
+          current.push_back(value);
+        else
+          current[step.index] = value;
         break;
       }
-      YAML::Node child = current[index];
+      YAML::Node child = current[step.index];
       current.reset(child);
+      continue;
     }
+
+    if (!current.IsMap()) {
+      const std::string wanted = step.digits ? "a list or a section" : "a section";
+      throw InputError(parent, 0,
+                       "`" + where + "` needs " + parent + " to be " + wanted + ", but it is " +
+                           detail::describe_node(current) + " (from --set)");
+    }
+    const std::string path = parent.empty() ? step.text : parent + "." + step.text;
+    if (last) {
+      current[step.text] = value;
+      parent = path;
+      break;
+    }
+    std::optional<YAML::Node> child = map_child(current, step.text);
+    if (!child || child->IsNull()) {
+      // An index needs a list that is there: a missing one is not created.
+      // (A number after a map the schema keys by numbers, toolpath.bases.1,
+      // is a key; after a name the schema lacks, the reader reports the
+      // unknown key with its "did you mean".)
+      const PathStep& next = steps[k + 1];
+      const std::optional<schema::Kind> kind = schema_kind(parent, step.text);
+      if (next.bracket || (next.digits && kind && *kind != schema::Kind::map)) {
+        throw InputError(path, 0,
+                         fmt::format("`{}`: the job has no {} list to index; give the whole "
+                                     "list instead, such as --set '{}=[...]' (from --set)",
+                                     where, path, path));
+      }
+      // Create the missing section, e.g. `--set forces.revolutions=3` in a
+      // job without a forces: section.
+      current[step.text] = YAML::Node(YAML::NodeType::Map);
+      child = map_child(current, step.text);
+      // Everything inside a section created here comes from the command line.
+      provenance.mark_overridden(path);
+    }
+    // reset() rebinds `current`; plain assignment would overwrite the node.
+    current.reset(*child);
+    parent = path;
   }
-  provenance.mark_overridden(join_path(*steps, steps->size()));
+  provenance.mark_overridden(parent);
 }
 
 // ---------------------------------------------------------------------------

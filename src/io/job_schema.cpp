@@ -111,6 +111,22 @@ too. File paths are relative to the job file's folder.
 is read as YAML (`--set process.ae="2 mm"`, `--set dynamics.modes[0].fn=2100`).
 Errors in overridden fields end with "(from --set)".
 
+`--set` reaches into every list of the job, lists of maps (`a.b[]` below) and
+lists of values alike. A number in the path is an index, counted from 0,
+written dotted or in brackets: `--set dynamics.modes.0.zeta=2%` and
+`--set dynamics.modes[0].zeta=2%` both change the first mode's damping,
+`--set robot.posture.2=30` sets one joint angle, and
+`--set 'dynamics.modes.1={direction: y, fn: 210 Hz, zeta: 3 %, k: 2e7}'`
+replaces the second mode as a whole. The list's length as the last step
+appends an entry: `--set 'dynamics.modes.2={...}'` on a job with two modes
+adds a third. A larger index, an index into something that is not a list and
+an index into a list the job does not have are errors that say so, such as
+"`--set dynamics.modes.5.zeta=2%`: index 5 is out of range; dynamics.modes has
+2 entries (from --set)"; indices are never negative. A whole list is set in
+YAML's flow form:
+`--set 'dynamics.modes=[{direction: x, fn: 100 Hz, zeta: 2 %, k: 1e6}, {...}]'`.
+After a map a number is a key, as in `--set 'toolpath.bases.1=[0, 0, 0, 0, 0, 0]'`.
+
 Section names: `a.b` is the map under key `b` of section `a`; `a.b[]` is each
 item of the list `a.b`. *required*: `yes`, a condition, "by" the commands
 that need it, or empty (optional).
