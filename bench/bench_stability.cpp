@@ -145,8 +145,8 @@ void BM_MonodromyBuild(benchmark::State& state) {
   // The steps out of the cut are one product with a power of e^{A0 h}; what
   // remains is a (2n x 2n)(2n x D) product per step in the cut.
   state.counters["state_size"] = columns;
-  state.counters["builds_per_s"] = benchmark::Counter(static_cast<double>(state.iterations()),
-                                                      benchmark::Counter::kIsRate);
+  state.counters["builds_per_s"] =
+      benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_MonodromyBuild);
 
