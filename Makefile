@@ -63,9 +63,10 @@ sanitize-build: setup
 # methods, the 004 optimum, the two-tooth zero-order comparison, process damping
 # in the time domain at 4300 steps per tooth, the surface's dense Z-maps, the program analysis's
 # round pocket corners at 0.1 mm dexels, whose engagement code the slot, side-cut and helix tests
-# run under ASan too): under ASan they
+# run under ASan too; the simulate-vs-stability grids, 80 simulations and Floquet solves whose
+# code the chatter-verdict and unstable-cut tests run under ASan): under ASan they
 # took 15 of a 2-core CI run's 28 minutes. They still run in the release pass.
-SANITIZE_SKIP ?= ^(BoundarySearch\.NoUnstableDepthBelowTheLimitInADenseMap|BoundarySearch\.ContinuationFindsTheSameLimits|Floquet\.TimeInvariantCouplingReproducesTheTurningLimit|Floquet\.MethodsConvergeToTheSameBoundary|Paper004\.OptimumIsAtLeastAsGoodAsThePapersAndSeedsAgree|ZeroOrderVersusFdm\.TwoToothSlotWithItsMeanCouplingIsTheZeroOrderDiagram|BenchmarkChatter\.ProcessDampingStabilizesAsTheFdmBoundaryPredicts|SurfaceZMap\.HeightBudgetOnlySavesWork|SurfaceZMap\.VibrationLockedToTheSpindlePrintsLikeTheKinematicSurface|Paper001Surface\..*|ProgramAnalysis\.PocketCornerEngagementMatchesTheClosedForm)$$
+SANITIZE_SKIP ?= ^(BoundarySearch\.NoUnstableDepthBelowTheLimitInADenseMap|BoundarySearch\.ContinuationFindsTheSameLimits|Floquet\.TimeInvariantCouplingReproducesTheTurningLimit|Floquet\.MethodsConvergeToTheSameBoundary|Paper004\.OptimumIsAtLeastAsGoodAsThePapersAndSeedsAgree|ZeroOrderVersusFdm\.TwoToothSlotWithItsMeanCouplingIsTheZeroOrderDiagram|BenchmarkChatter\.ProcessDampingStabilizesAsTheFdmBoundaryPredicts|SurfaceZMap\.HeightBudgetOnlySavesWork|SurfaceZMap\.VibrationLockedToTheSpindlePrintsLikeTheKinematicSurface|Paper001Surface\..*|ProgramAnalysis\.PocketCornerEngagementMatchesTheClosedForm|SimulateVsStability\.(OneDofBenchmarkGrid|TwoModeRobotGrid))$$
 test-sanitize: sanitize-build
 	cd $(ASAN_BUILD) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
 	  ctest --output-on-failure -j$(JOBS) -E '$(SANITIZE_SKIP)'

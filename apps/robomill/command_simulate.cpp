@@ -255,6 +255,7 @@ CommandResult compute_simulate(const io::Job& job) {
   analysis.teeth = cutter.teeth();
   analysis.runout = cutter.runout().offset_m > 0.0;
   analysis.steady_window_s = s.steady_window_s;
+  analysis.feed_per_tooth_m = job.process->feed_per_tooth_m;
   const simulation::ResponseMetrics metrics = simulation::analyze_response(result, analysis);
   const double elapsed_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -317,10 +318,21 @@ CommandResult compute_simulate(const io::Job& job) {
       {"chatter", metrics.chatter.chatter},
       {"chatter_freq_hz", metrics.chatter.chatter ? nlohmann::json(metrics.chatter.frequency_hz)
                                                   : nlohmann::json(nullptr)},
+      // The verdict weighs nonharmonic_rms_mm against floor_mm and needs
+      // persistence >= min_persistence (docs/simulation.md, "The chatter
+      // verdict"); the energy fraction and the spread are evidence only.
       {"chatter_evidence",
        {{"nonharmonic_energy_fraction", metrics.chatter.nonharmonic_fraction},
         {"once_per_period_spread", metrics.chatter.sample_spread},
-        {"largest_nonharmonic_hz", metrics.chatter.frequency_hz}}},
+        {"largest_nonharmonic_hz", metrics.chatter.frequency_hz},
+        {"nonharmonic_rms_mm", metrics.chatter.nonharmonic_rms_m * 1e3},
+        {"forced_rms_mm", metrics.chatter.forced_rms_m * 1e3},
+        {"floor_mm", metrics.chatter.floor_m * 1e3},
+        {"floor_basis", simulation::chatter_floor_name(metrics.chatter.floor)},
+        {"feed_per_tooth_mm", job.process->feed_per_tooth_m * 1e3},
+        {"floor_feed_fraction", analysis.chatter.floor_feed_fraction},
+        {"persistence", metrics.chatter.persistence},
+        {"min_persistence", analysis.chatter.min_persistence}}},
       {"mean_force_N", io::xyz(metrics.mean_force_n)},
       {"peak_force_N", io::xyz(metrics.peak_force_n)},
       {"first_contact_s", result.first_contact_s},

@@ -167,6 +167,9 @@ CommandResult compute_surface(const io::Job& job, int threads) {
                                 ? nlohmann::json(vibration->verdict.frequency_hz)
                                 : nlohmann::json(nullptr)},
         {"nonharmonic_fraction", vibration->verdict.nonharmonic_fraction},
+        {"nonharmonic_rms_um", vibration->verdict.nonharmonic_rms_m * 1e6},
+        {"chatter_floor_um", vibration->verdict.floor_m * 1e6},
+        {"chatter_persistence", vibration->verdict.persistence},
         {"mean_um", io::xyz(vibration->mean_m * 1e6)},
         {"peak_to_peak_um", io::xyz(vibration->peak_to_peak_m * 1e6)}};
   } else {

@@ -152,6 +152,7 @@ SurfaceVibration simulate_vibration(const Job& job, const SurfaceSettings& s,
   analysis.spindle_rad_s = process.spindle_rad_s;
   analysis.teeth = cutter.teeth();
   analysis.runout = cutter.runout().offset_m > 0.0;
+  analysis.feed_per_tooth_m = process.feed_per_tooth_m;
   analysis.steady_window_s =
       std::max(0.5 * run.duration_s, kTwoPi / process.spindle_rad_s * (analysis.runout ? 1 : 0.5));
   try {

@@ -46,6 +46,7 @@ Verdict simulate_benchmark(double spindle_rad_s, double depth_m, double tooth_pe
   analysis.spindle_rad_s = spindle_rad_s;
   analysis.teeth = 2;
   analysis.steady_window_s = 0.25 * options.duration_s;
+  analysis.feed_per_tooth_m = process.feed_per_tooth_m;
   v.metrics = simulation::analyze_response(v.result, analysis);
   return v;
 }
@@ -70,12 +71,13 @@ TEST(BenchmarkChatter, JustBelowIsStableJustAboveChatters) {
     const auto& a = above[s].metrics.chatter;
     std::printf(
         "[validation] benchmark a/D 0.05 at %.0f rpm: FDM limit %.4f mm (%s, %.1f Hz); %.2fx: "
-        "%s (non-harmonic %.3g, spread %.3g); %.2fx: %s at %.1f Hz (non-harmonic %.3g, "
-        "spread %.3g)\n",
+        "%s (non-harmonic RMS %.3g um, floor %.3g um; fraction %.3g, spread %.3g); %.2fx: %s at "
+        "%.1f Hz (non-harmonic RMS %.3g um, persistence %.3g; fraction %.3g, spread %.3g)\n",
         speeds[s] * 30.0 / kPi, limits[s].depth_limit_m * 1e3, limits[s].bifurcation.c_str(),
         limits[s].chatter_frequency_hz, kBelow, b.chatter ? "chatter" : "stable",
-        b.nonharmonic_fraction, b.sample_spread, kAbove, a.chatter ? "chatter" : "stable",
-        a.frequency_hz, a.nonharmonic_fraction, a.sample_spread);
+        b.nonharmonic_rms_m * 1e6, b.floor_m * 1e6, b.nonharmonic_fraction, b.sample_spread, kAbove,
+        a.chatter ? "chatter" : "stable", a.frequency_hz, a.nonharmonic_rms_m * 1e6, a.persistence,
+        a.nonharmonic_fraction, a.sample_spread);
     EXPECT_FALSE(b.chatter) << s;
     EXPECT_TRUE(a.chatter) << s;
   }
@@ -170,6 +172,7 @@ TEST(BenchmarkChatter, ProcessDampingStabilizesAsTheFdmBoundaryPredicts) {
     analysis.spindle_rad_s = spindle;
     analysis.teeth = 2;
     analysis.steady_window_s = 0.25 * options.duration_s;
+    analysis.feed_per_tooth_m = process.feed_per_tooth_m;
     return simulation::analyze_response(result, analysis).chatter;
   };
   std::vector<simulation::ChatterVerdict> verdicts(3);
@@ -180,9 +183,9 @@ TEST(BenchmarkChatter, ProcessDampingStabilizesAsTheFdmBoundaryPredicts) {
   });
   std::printf(
       "[validation] benchmark at 1500 rpm: FDM limit %.4f mm plain, %.4f mm with process damping; "
-      "%.2fx damped limit: %s with damping (non-harmonic %.3g), %s without; %.2fx: %s\n",
+      "%.2fx damped limit: %s with damping (non-harmonic RMS %.3g um), %s without; %.2fx: %s\n",
       plain_m * 1e3, damped_m * 1e3, kBelow, verdicts[0].chatter ? "chatter" : "stable",
-      verdicts[0].nonharmonic_fraction, verdicts[1].chatter ? "chatter" : "stable", kAbove,
+      verdicts[0].nonharmonic_rms_m * 1e6, verdicts[1].chatter ? "chatter" : "stable", kAbove,
       verdicts[2].chatter ? "chatter" : "stable");
   EXPECT_FALSE(verdicts[0].chatter);
   EXPECT_TRUE(verdicts[1].chatter);

@@ -98,6 +98,17 @@ const std::map<std::string, std::string> kPapers = {
     {"004", "Workpiece pose optimization for flexible-joint robots (KR300)"},
 };
 
+/// Sections that compare robomill with itself rather than with a paper: the
+/// record's "paper" key, the heading, and the name of the reference column.
+struct CrossCheck {
+  const char* heading;
+  const char* reference;
+};
+const std::map<std::string, CrossCheck> kCrossChecks = {
+    {"sim",
+     {"Time-domain simulation against the frequency-domain boundary (issue 20)", "stability"}},
+};
+
 std::string row_of(const nlohmann::json& r) {
   auto s = [&](const char* key) { return escape_cell(r.value(key, std::string())); };
   return "| " + s("item") + " | " + s("quantity") + " | " + s("unit") + " | " + s("paper_value") +
@@ -136,7 +147,9 @@ Every row is one comparison a validation test makes against a paper's
 published value, recorded next to the test's own assertion with the same
 tolerance: the paper's value, ours (4 significant digits), the error, the
 tolerance the test accepts, whether it passed, and what the comparison
-assumes. The discussion of each comparison is in
+assumes. The last section compares robomill with itself: the time-domain
+simulation's chatter verdict against the frequency-domain boundary, point by
+point. The discussion of each comparison is in
 [validation.md](validation.md); the modelling choices in
 [assumptions.md](assumptions.md).
 
@@ -148,9 +161,15 @@ assumes. The discussion of each comparison is in
     if (r.paper != paper) {
       paper = r.paper;
       const auto title = kPapers.find(paper);
-      out += "\n## Paper " + paper +
-             (title != kPapers.end() ? " — " + title->second : std::string()) + "\n\n";
-      out += "| item | quantity | unit | paper | ours | error | tolerance | pass | assumptions |\n";
+      const auto check = kCrossChecks.find(paper);
+      if (check != kCrossChecks.end())
+        out += std::string("\n## ") + check->second.heading + "\n\n| item | quantity | unit | " +
+               check->second.reference + " | ours | error | tolerance | pass | assumptions |\n";
+      else
+        out += "\n## Paper " + paper +
+               (title != kPapers.end() ? " — " + title->second : std::string()) +
+               "\n\n| item | quantity | unit | paper | ours | error | tolerance | pass | "
+               "assumptions |\n";
       out += "|---|---|---|---|---|---|---|---|---|\n";
     }
     const std::string row = row_of(r.json);

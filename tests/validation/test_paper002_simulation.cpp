@@ -109,6 +109,7 @@ Simulated run(const io::Job& job, const simulation::LinearStructure& structure, 
   analysis.spindle_rad_s = job.process->spindle_rad_s;
   analysis.teeth = tool.teeth();
   analysis.steady_window_s = 0.2 * duration_s;
+  analysis.feed_per_tooth_m = job.process->feed_per_tooth_m;
   r.metrics = simulation::analyze_response(r.result, analysis);
   return r;
 }

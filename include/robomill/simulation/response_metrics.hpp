@@ -15,19 +15,72 @@
 //  * first frequency f1: the largest peak of the displacement spectrum below
 //    half the spindle frequency, over the part of the run after the cutter is
 //    fully engaged (the centre has passed the border);
-//  * chatter: in the steady window, the fraction of the displacement's
-//    spectral energy (above half the forced frequency) lying away from the
-//    harmonics of the forced period — the tooth period for a cutter without
-//    runout, the revolution with runout — and the spread of the displacement
-//    sampled once per forced period relative to its RMS vibration; the cut
-//    chatters when both exceed their thresholds.
+//  * chatter: detect_chatter over the steady window (below).
 
 #include <Eigen/Core>
 #include <array>
+#include <vector>
 
 #include "robomill/simulation/simulator.hpp"
 
 namespace robomill::simulation {
+
+/// The chatter detector's thresholds (detect_chatter; docs/simulation.md,
+/// "The chatter verdict", for the reasoning and the evidence behind them).
+struct ChatterOptions {
+  /// The physical floor: the non-harmonic RMS vibration must exceed this
+  /// fraction of the feed per tooth fz. Chatter grows until the teeth leave
+  /// the cut, i.e. to amplitudes comparable with the chip (≈ fz); a vibration
+  /// of 1 % of fz changes the chip by about 1 % and is either a transient or
+  /// numerical noise.
+  double floor_feed_fraction = 0.01;
+  /// The numerical floor: this fraction of the vibration's own scale,
+  /// max(|x_s|, RMS vibration) (the issue-20 noise was 2e-8 of |x_s|). It is
+  /// the floor when no feed is known and a guard when fz is tiny.
+  double floor_numerical_fraction = 1e-6;
+  /// Persistence: the non-harmonic RMS over the second half of the window
+  /// must be at least this fraction of the first half's (a decaying transient
+  /// is not chatter). Not judged for windows shorter than four forced periods.
+  double min_persistence = 0.8;
+};
+
+/// Which floor the non-harmonic vibration was weighed against.
+enum class ChatterFloor { feed_per_tooth, numerical };
+const char* chatter_floor_name(ChatterFloor floor) noexcept;
+
+struct ChatterVerdict {
+  bool chatter = false;
+  double frequency_hz = 0.0;          ///< largest non-harmonic peak (0: none)
+  double nonharmonic_fraction = 0.0;  ///< of the displacement energy (evidence, not a gate)
+  double sample_spread = 0.0;         ///< once-per-period samples' RMS / RMS vibration (evidence)
+  double nonharmonic_rms_m = 0.0;     ///< RMS of the non-harmonic part (all directions)
+  double forced_rms_m = 0.0;          ///< RMS of the forced (harmonic) part (all directions)
+  double floor_m = 0.0;               ///< what nonharmonic_rms_m is weighed against
+  ChatterFloor floor = ChatterFloor::feed_per_tooth;
+  /// Non-harmonic RMS over the window's second half / first half (1 when the
+  /// window is too short to judge).
+  double persistence = 1.0;
+};
+
+/// The chatter verdict of a vibration (docs/simulation.md, "The chatter
+/// verdict"). Inputs: `displacement_m`, the tool-tip displacement (tool
+/// frame) sampled every `interval_s` over the steady part of a cut — its last
+/// whole forced periods are judged (to within half a sample when the period
+/// is not a whole number of samples); `forced_period_s`, the period the cut
+/// forces the structure at (the tooth period, or the revolution with
+/// runout); `feed_per_tooth_m`, fz (0: unknown, the numerical floor alone
+/// applies); the thresholds. Per direction the window less a straight line
+/// through its period means is Hann-transformed, and the spectrum above three
+/// resolution bins is split into the harmonics of 1/forced_period_s (within
+/// 2.5 bins) and the rest, the non-harmonic part. The cut chatters when the
+/// non-harmonic RMS exceeds the floor, max(floor_feed_fraction · fz,
+/// floor_numerical_fraction · max(|x_s|, RMS vibration)), and persists
+/// (second half ≥ min_persistence × first half). Throws std::invalid_argument
+/// for a non-positive interval or period, or fewer than 8 samples or one
+/// forced period.
+ChatterVerdict detect_chatter(const std::vector<Eigen::Vector3d>& displacement_m, double interval_s,
+                              double forced_period_s, double feed_per_tooth_m,
+                              const ChatterOptions& options = {});
 
 struct ResponseOptions {
   double spindle_rad_s = 0.0;
@@ -35,8 +88,9 @@ struct ResponseOptions {
   bool runout = false;           ///< forced period: one revolution instead of one tooth period
   double steady_window_s = 0.0;  ///< the last part of the run treated as steady
   double settling_band = 0.05;
-  double chatter_energy_fraction = 0.1;  ///< threshold of the non-harmonic energy fraction
-  double chatter_sample_spread = 0.1;    ///< threshold of the once-per-period spread
+  /// fz of the cut, for the chatter verdict's floor (0: the numerical floor alone).
+  double feed_per_tooth_m = 0.0;
+  ChatterOptions chatter;
 };
 
 struct DirectionResponse {
@@ -46,13 +100,6 @@ struct DirectionResponse {
   double first_frequency_hz = 0.0;  ///< 0 when the direction does not move
   double peak_to_peak_m = 0.0;      ///< over the steady window
   double rms_vibration_m = 0.0;     ///< about the static deviation, steady window
-};
-
-struct ChatterVerdict {
-  bool chatter = false;
-  double frequency_hz = 0.0;          ///< largest non-harmonic peak (0: none)
-  double nonharmonic_fraction = 0.0;  ///< of the displacement energy
-  double sample_spread = 0.0;         ///< once-per-period samples' RMS / RMS vibration
 };
 
 struct ResponseMetrics {
