@@ -22,29 +22,13 @@ std::vector<double> benchmark_speeds() {
   return stability::linear_range(test::rpm(5000.0), test::rpm(25000.0), 200);
 }
 
-/// The benchmark with `modes` modes: the 922 Hz mode along x, then modes at
-/// 1.3x, 1.7x … its frequency alternating between y and x (same ζ, same
-/// modal stiffness), so that the state grows by one modal coordinate per mode.
-stability::RegenerativeModel benchmark_modes(int modes) {
-  if (modes == 1)
-    return test::benchmark_1dof(0.05);
-  const auto one = test::benchmark_1dof(0.05);
-  std::vector<dynamics::Mode> list;
-  const double stiffness = 0.03993 * std::pow(2.0 * std::numbers::pi * 922.0, 2);
-  for (int i = 0; i < modes; ++i) {
-    list.push_back(dynamics::directional_mode(i % 2, 922.0 * (1.0 + 0.3 * i), 0.011, stiffness));
-  }
-  return stability::RegenerativeModel(one.tool(), one.law(), one.process(),
-                                      dynamics::ModalModel(list));
-}
-
 const char* method_name(int method) {
   return method == 0 ? "sdm" : method == 1 ? "fdm" : "fdm2";
 }
 
 // The peers' workload: 200 speeds x 100 depths, m = 40, one or two threads.
 void BM_BenchmarkMap(benchmark::State& state) {
-  const auto model = benchmark_modes(static_cast<int>(state.range(2)));
+  const auto model = test::benchmark_modes(static_cast<int>(state.range(2)), 0.05);
   stability::LobeOptions options;
   options.method = static_cast<stability::FloquetMethod>(state.range(0));
   options.steps = 40;

@@ -119,18 +119,6 @@ double reference_radius(FloquetMethod method, const Eigen::VectorXd& omega,
   return eigen.eigenvalues().cwiseAbs().maxCoeff();
 }
 
-stability::RegenerativeModel model_with_modes(int modes, double radial_immersion) {
-  const auto one = test::benchmark_1dof(radial_immersion);
-  if (modes == 1)
-    return one;
-  std::vector<dynamics::Mode> list;
-  const double stiffness = 0.03993 * std::pow(2.0 * std::numbers::pi * 922.0, 2);
-  for (int i = 0; i < modes; ++i)
-    list.push_back(dynamics::directional_mode(i % 2, 922.0 * (1.0 + 0.3 * i), 0.011, stiffness));
-  return stability::RegenerativeModel(one.tool(), one.law(), one.process(),
-                                      dynamics::ModalModel(list));
-}
-
 struct Case {
   int modes;
   double radial_immersion;
@@ -146,7 +134,7 @@ TEST(FloquetReference, FastSolverMatchesTheDenseStepByStepProduct) {
                                    {1, 0.5, 2},   {2, 1.0, 3}};
   int compared = 0;
   for (const Case& c : cases) {
-    const auto model = model_with_modes(c.modes, c.radial_immersion);
+    const auto model = test::benchmark_modes(c.modes, c.radial_immersion);
     const auto coupling = model.sample(1.0, c.steps);
     const auto damping = model.sample_damping(1.0, c.steps, 0.3);
     const Eigen::VectorXd omega = model.modes().natural_rad_s();
