@@ -8,7 +8,8 @@
 #include <numbers>
 #include <stdexcept>
 
-#include "robomill/simulation/spectrum.hpp"
+#include "robomill/monitoring/harmonic_comb.hpp"
+#include "robomill/monitoring/spectrum.hpp"
 
 namespace robomill::simulation {
 namespace {
@@ -79,41 +80,21 @@ std::vector<double> detrended(const std::vector<Eigen::Vector3d>& series, int ax
 
 /// The Hann spectrum of one direction split into the harmonics of the forced
 /// frequency (within 2.5 bins: the window's main lobe) and the rest, above
-/// three resolution bins (what is left of a drift below that). Energies are
-/// sums of squared amplitudes: a sinusoid of amplitude A at a bin fills it
-/// with A and its two neighbours with A/2, 1.5 A² in all, for a mean square
-/// of A²/2, so RMS² = energy / 3 (Parseval, for any stationary signal).
-struct SpectralSplit {
-  double harmonic = 0.0, nonharmonic = 0.0;
-  double peak_amplitude = 0.0, peak_hz = 0.0;  ///< largest non-harmonic bin
-};
-
-SpectralSplit split_spectrum(const std::vector<double>& samples, double interval_s,
-                             double forced_hz) {
-  SpectralSplit split;
+/// three resolution bins (what is left of a drift below that): the monitoring
+/// module's attribution (monitoring/harmonic_comb.hpp), the same rule the
+/// recorded-signal detector applies. Energies are sums of squared
+/// amplitudes: a sinusoid of amplitude A at a bin fills it with A and its two
+/// neighbours with A/2, 1.5 A² in all, for a mean square of A²/2, so RMS² =
+/// energy / 3 (Parseval, for any stationary signal).
+monitoring::HarmonicSplit split_spectrum(const std::vector<double>& samples, double interval_s,
+                                         double forced_hz) {
   bool moves = false;
   for (double v : samples)
     moves = moves || v != 0.0;
   if (!moves)
-    return split;
-  const AmplitudeSpectrum spectrum = amplitude_spectrum(samples, interval_s, 1);
-  for (std::size_t k = 1; k < spectrum.frequency_hz.size(); ++k) {
-    const double f = spectrum.frequency_hz[k];
-    if (f < 3.0 * spectrum.resolution_hz)
-      continue;
-    const double energy = spectrum.amplitude[k] * spectrum.amplitude[k];
-    const double harmonic = std::round(f / forced_hz) * forced_hz;
-    if (harmonic > 0.0 && std::abs(f - harmonic) <= 2.5 * spectrum.resolution_hz) {
-      split.harmonic += energy;
-      continue;
-    }
-    split.nonharmonic += energy;
-    if (spectrum.amplitude[k] > split.peak_amplitude) {
-      split.peak_amplitude = spectrum.amplitude[k];
-      split.peak_hz = f;
-    }
-  }
-  return split;
+    return {};
+  return monitoring::split_harmonics(monitoring::amplitude_spectrum(samples, interval_s, 1),
+                                     forced_hz, 2.5, 3.0);
 }
 
 }  // namespace
@@ -154,8 +135,8 @@ ChatterVerdict detect_chatter(const std::vector<Eigen::Vector3d>& displacement_m
       variance_all += (v - mean) * (v - mean) / static_cast<double>(count);
 
     // The non-harmonic part: the spectrum away from the forced harmonics.
-    const SpectralSplit all = split_spectrum(detrended(displacement_m, axis, from, to, per_period),
-                                             interval_s, forced_hz);
+    const monitoring::HarmonicSplit all = split_spectrum(
+        detrended(displacement_m, axis, from, to, per_period), interval_s, forced_hz);
     harmonic += all.harmonic;
     nonharmonic += all.nonharmonic;
     if (all.peak_amplitude > best) {
@@ -272,9 +253,9 @@ ResponseMetrics analyze_response(const SimulationResult& result, const ResponseO
     // when the direction's modes all lie above it).
     if (end - analysis_from >= 8) {
       const std::vector<double> after = component(result.displacement_m, axis, analysis_from, end);
-      const AmplitudeSpectrum spectrum = amplitude_spectrum(after, dt, 8);
-      d.first_frequency_hz =
-          resonance_frequency_hz(spectrum, 1.5 * spectrum.resolution_hz, 0.5 * spindle_hz);
+      const monitoring::AmplitudeSpectrum spectrum = monitoring::amplitude_spectrum(after, dt, 8);
+      d.first_frequency_hz = monitoring::resonance_frequency_hz(
+          spectrum, 1.5 * spectrum.resolution_hz, 0.5 * spindle_hz);
     }
   }
 

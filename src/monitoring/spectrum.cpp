@@ -1,6 +1,6 @@
 // Amplitude spectra with FFTW3 (spectrum.hpp).
 
-#include "robomill/simulation/spectrum.hpp"
+#include "robomill/monitoring/spectrum.hpp"
 
 #include <fftw3.h>
 
@@ -10,16 +10,11 @@
 #include <numbers>
 #include <stdexcept>
 
-namespace robomill::simulation {
-namespace {
-
-// FFTW's planner is not thread-safe; execution of distinct plans is.
-std::mutex& planner_mutex() {
+namespace robomill::monitoring {
+std::mutex& fftw_planner_mutex() {
   static std::mutex mutex;
   return mutex;
 }
-
-}  // namespace
 
 AmplitudeSpectrum amplitude_spectrum(const std::vector<double>& samples, double interval_s,
                                      int padding) {
@@ -36,7 +31,7 @@ AmplitudeSpectrum amplitude_spectrum(const std::vector<double>& samples, double 
   fftw_complex* output = fftw_alloc_complex(bins);
   fftw_plan plan;
   {
-    const std::lock_guard lock(planner_mutex());
+    const std::lock_guard lock(fftw_planner_mutex());
     plan = fftw_plan_dft_r2c_1d(static_cast<int>(length), input, output, FFTW_ESTIMATE);
   }
   // Hann window; its coherent gain is 1/2, so a sinusoid of amplitude A gives
@@ -61,7 +56,7 @@ AmplitudeSpectrum amplitude_spectrum(const std::vector<double>& samples, double 
     spectrum.amplitude[k] = (k == 0 ? 1.0 : 2.0) * magnitude / window_sum;
   }
   {
-    const std::lock_guard lock(planner_mutex());
+    const std::lock_guard lock(fftw_planner_mutex());
     fftw_destroy_plan(plan);
   }
   fftw_free(input);
@@ -124,4 +119,4 @@ double resonance_frequency_hz(const AmplitudeSpectrum& spectrum, double low_hz, 
   return dip_below && dip_above ? refined_peak_hz(spectrum, best) : 0.0;
 }
 
-}  // namespace robomill::simulation
+}  // namespace robomill::monitoring

@@ -1,0 +1,125 @@
+#pragma once
+// The chatter verdict of a recorded cut (issue 22, docs/monitoring.md): a
+// signal (sound, acceleration, ...) in, whether the cut chattered, at which
+// frequency, since when, and the spindle speeds that would put a
+// tooth-passing harmonic on that frequency out.
+//
+// Method (docs/monitoring.md gives the reasoning and the thresholds' why):
+//  1. one streaming pass: Welch's power spectral density (Hann, 50 %
+//     overlap) and short-time spectra (the spectrogram, at most
+//     `max_spectrogram_frames` columns: consecutive frames are averaged, so
+//     memory stays flat in the recording's length);
+//  2. the spindle frequency refined from the spectrum near the commanded one
+//     (the comb of its harmonics that holds the most power within
+//     ±spindle_search_fraction);
+//  3. every PSD bin attributed (LineCause): the spindle's and the tooth's
+//     harmonics (forced), lines set aside (the job's `ignore`, mains 50/60 Hz
+//     and harmonics, lines that stay put), the broadband floor, and what
+//     remains: chatter evidence, from a robot's low modes (10-100 Hz) to a
+//     tool's kHz modes, its sidebands around the tooth harmonics included;
+//  4. the verdict: the chatter evidence's share of the power that rises above
+//     the floor (chatter vs forced) against `chatter_energy_threshold`;
+//     "unknown" with a reason when the signal cannot decide;
+//  5. the onset: the first short-time frame from which the chatter share
+//     stays above the threshold.
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "robomill/monitoring/signal_source.hpp"
+
+namespace robomill::monitoring {
+
+/// A line set aside by the user (`recording.ignore`): centre and half width.
+struct IgnoredLine {
+  double frequency_hz = 0.0;
+  double half_width_hz = 0.0;  ///< 0: the spectrum's own resolution (2 bins)
+};
+
+struct ListenOptions {
+  double commanded_spindle_hz = 0.0;     ///< process.spindle / 60 (required > 0)
+  int teeth = 1;                         ///< tool.teeth (1 for a single insert)
+  double spindle_search_fraction = 0.1;  ///< refine within ±10 % of the commanded speed
+  std::vector<IgnoredLine> ignore;
+  bool detect_mains = true;         ///< set aside 50/60 Hz lines and their harmonics
+  bool detect_steady_lines = true;  ///< set aside lines that stay put over the recording
+  double band_low_hz = 0.0;         ///< analysed band (0: automatic, 3 resolution bins)
+  double band_high_hz = 0.0;        ///< 0: 0.45 × the sample rate
+  /// Chatter when the chatter evidence holds more than this share of the
+  /// cut's vibration — the band's power less the lines set aside (003 §4:
+  /// "the robot's modes outweigh the spindle frequency"; docs/monitoring.md).
+  double chatter_energy_threshold = 0.5;
+  /// Welch segment (0: automatic, ≥ 32 bins per spindle harmonic and ≥ 3
+  /// segments). The short-time spectra are these segments (merged when there
+  /// are more than max_spectrogram_frames), so the onset is resolved to one
+  /// segment.
+  double segment_s = 0.0;
+  int max_spectrogram_frames = 400;
+  int min_revolutions = 10;  ///< shorter recordings give "unknown"
+  /// Called with the fraction of the signal read (0..1) when the length is known.
+  std::function<void(double)> progress;
+};
+
+enum class Verdict { stable, chatter, unknown };
+const char* verdict_name(Verdict verdict) noexcept;  ///< "stable", "chatter", "unknown"
+
+/// Why a PSD bin holds its power.
+enum class LineCause { below_band, spindle, tooth, ignored, mains, steady_line, floor, chatter };
+const char* line_cause_name(LineCause cause) noexcept;
+
+/// A spectral line (a local maximum of the PSD above the floor).
+struct SpectralLine {
+  double frequency_hz = 0.0;
+  double power = 0.0;  ///< integrated over the line (signal unit²)
+  LineCause cause = LineCause::floor;
+};
+
+struct RecordingAnalysis {
+  Verdict verdict = Verdict::unknown;
+  std::string reason;  ///< why, in words (always set; the cause of "unknown")
+  double duration_s = 0.0;
+  double sample_rate_hz = 0.0;
+  double spindle_hz_commanded = 0.0;
+  double spindle_hz_measured = 0.0;  ///< refined; the commanded one when no comb was found
+  bool spindle_refined = false;
+  double tooth_hz = 0.0;    ///< measured spindle × teeth
+  double chatter_hz = 0.0;  ///< strongest chatter line (0: none)
+  double chatter_energy_fraction = 0.0;
+  double forced_energy_fraction = 0.0;   ///< spindle + tooth harmonics
+  double ignored_energy_fraction = 0.0;  ///< ignored + mains + steady lines, of the total
+  double floor_energy_fraction = 0.0;    ///< broadband floor, of the total
+  std::optional<double> onset_s;         ///< from the recording's start
+  double clipped_fraction = 0.0;         ///< of the samples at full scale
+
+  /// Welch PSD (signal unit²/Hz), one-sided, and each bin's cause.
+  std::vector<double> frequency_hz, psd;
+  std::vector<LineCause> cause;
+  double resolution_hz = 0.0;
+  std::vector<SpectralLine> lines;  ///< strongest first
+
+  /// Short-time spectra: power (signal unit²/Hz) of frame i at bin j is
+  /// spectrogram_psd[i * spectrogram_frequency_hz.size() + j].
+  std::vector<double> spectrogram_time_s, spectrogram_frequency_hz, spectrogram_psd;
+  std::vector<double> frame_chatter_fraction;  ///< the chatter share per frame
+};
+
+/// Reads `source` once and judges it. Throws std::invalid_argument for a
+/// non-positive commanded spindle speed or tooth count; InputError from the
+/// source. Never throws for a signal that cannot decide: verdict unknown.
+RecordingAnalysis analyze_recording(SignalSource& source, const ListenOptions& options);
+
+/// One spindle speed that puts the (k+1)-th tooth-passing harmonic on the
+/// chatter frequency: n = 60 fc / (N (k + 1)) (Altintas' lobe-centre rule).
+struct SpindleSuggestion {
+  double spindle_hz = 0.0;
+  int harmonic = 1;  ///< k + 1
+};
+
+/// Candidates within [min_hz, max_hz], ranked: the lowest harmonic (the widest
+/// lobe) first. Empty when none fits.
+std::vector<SpindleSuggestion> suggest_spindle_speeds(double chatter_hz, int teeth, double min_hz,
+                                                      double max_hz);
+
+}  // namespace robomill::monitoring

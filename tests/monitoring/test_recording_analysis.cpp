@@ -1,0 +1,253 @@
+// The recorded-signal chatter detector (monitoring/recording_analysis.hpp) on
+// synthetic signals whose truth is known: tones on the spindle's harmonics,
+// a non-harmonic tone, mains hum, the user's ignore list, a spindle
+// override, sidebands, signals that cannot decide, streaming and memory.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <span>
+#include <vector>
+
+#include "robomill/monitoring/recording_analysis.hpp"
+
+namespace {
+
+using namespace robomill::monitoring;
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+constexpr double kRate = 10000.0;  // Hz
+constexpr double kSpindle = 47.0;  // Hz (2820 rpm; not a mains harmonic)
+
+struct Tone {
+  double frequency_hz, amplitude;
+};
+
+std::vector<double> signal(const std::vector<Tone>& tones, double duration_s, double noise_rms,
+                           unsigned seed = 1) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> noise(0.0, noise_rms);
+  std::vector<double> x(static_cast<std::size_t>(duration_s * kRate));
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const double t = static_cast<double>(i) / kRate;
+    double v = noise(rng);
+    for (const Tone& tone : tones)
+      v += tone.amplitude * std::sin(kTwoPi * tone.frequency_hz * t + 0.3 * tone.frequency_hz);
+    x[i] = v;
+  }
+  return x;
+}
+
+/// The forced response of a 2-tooth cutter at `spindle_hz`: the tooth
+/// harmonics and a little runout.
+std::vector<Tone> forced(double spindle_hz) {
+  return {{2 * spindle_hz, 1.0},  {4 * spindle_hz, 0.5},  {6 * spindle_hz, 0.3},
+          {8 * spindle_hz, 0.2},  {10 * spindle_hz, 0.1}, {spindle_hz, 0.05},
+          {3 * spindle_hz, 0.03}, {12 * spindle_hz, 0.08}};
+}
+
+RecordingAnalysis analyze(std::vector<double> x, ListenOptions options = {}) {
+  if (options.commanded_spindle_hz == 0.0)
+    options.commanded_spindle_hz = kSpindle;
+  if (options.teeth == 1)
+    options.teeth = 2;
+  VectorSource source(std::move(x), kRate, SignalKind::acceleration);
+  return analyze_recording(source, options);
+}
+
+TEST(RecordingAnalysis, HarmonicsAloneAreStable) {
+  const auto r = analyze(signal(forced(kSpindle), 10.0, 0.01));
+  EXPECT_EQ(r.verdict, Verdict::stable) << r.reason;
+  EXPECT_LT(r.chatter_energy_fraction, 0.05);
+  EXPECT_TRUE(r.spindle_refined);
+  EXPECT_NEAR(r.spindle_hz_measured, kSpindle, 1e-4 * kSpindle);
+  EXPECT_FALSE(r.onset_s.has_value());
+}
+
+TEST(RecordingAnalysis, ALargeNonHarmonicToneIsChatterAtItsFrequency) {
+  auto tones = forced(kSpindle);
+  tones.push_back({737.3, 2.0});
+  const auto r = analyze(signal(tones, 10.0, 0.01));
+  EXPECT_EQ(r.verdict, Verdict::chatter) << r.reason;
+  EXPECT_NEAR(r.chatter_hz, 737.3, r.resolution_hz);
+  EXPECT_GT(r.chatter_energy_fraction, 0.5);
+}
+
+TEST(RecordingAnalysis, ARobotModeBelowTheToothFrequencyIsChatter) {
+  // 003 §4: at 1660 rpm the robot's 17 Hz mode outweighs the spindle line.
+  ListenOptions options;
+  options.commanded_spindle_hz = 1660.0 / 60.0;
+  auto tones = forced(options.commanded_spindle_hz);
+  tones.push_back({17.3, 3.0});
+  const auto r = analyze(signal(tones, 20.0, 0.01), options);
+  EXPECT_EQ(r.verdict, Verdict::chatter) << r.reason;
+  EXPECT_NEAR(r.chatter_hz, 17.3, r.resolution_hz);
+}
+
+TEST(RecordingAnalysis, MainsHumAloneIsNotChatter) {
+  auto tones = forced(kSpindle * 1.07);  // 60 Hz is not a harmonic of 53.5 Hz
+  tones.push_back({60.0, 2.0});
+  tones.push_back({180.0, 0.8});
+  ListenOptions options;
+  options.commanded_spindle_hz = kSpindle * 1.07;
+  const auto r = analyze(signal(tones, 10.0, 0.01), options);
+  EXPECT_EQ(r.verdict, Verdict::stable) << r.reason;
+  EXPECT_GT(r.ignored_energy_fraction, 0.3);
+  // Without the mains rule (and the steady-line rule, which would set the
+  // pure hum aside too) the hum is chatter evidence.
+  options.detect_mains = false;
+  options.detect_steady_lines = false;
+  const auto without = analyze(signal(tones, 10.0, 0.01), options);
+  EXPECT_EQ(without.verdict, Verdict::chatter) << without.reason;
+}
+
+TEST(RecordingAnalysis, TheIgnoreListSetsALineAside) {
+  auto tones = forced(kSpindle);
+  tones.push_back({1234.5, 2.0});  // a pump
+  ListenOptions options;
+  options.detect_steady_lines = false;  // judged by the ignore list alone
+  EXPECT_EQ(analyze(signal(tones, 10.0, 0.01), options).verdict, Verdict::chatter);
+  options.ignore.push_back({1234.5, 1.0});
+  const auto r = analyze(signal(tones, 10.0, 0.01), options);
+  EXPECT_EQ(r.verdict, Verdict::stable) << r.reason;
+}
+
+TEST(RecordingAnalysis, TheSpindleIsRefinedUnderAFivePercentOverride) {
+  const double actual = 1.05 * kSpindle;
+  auto tones = forced(actual);
+  const auto r = analyze(signal(tones, 10.0, 0.01));
+  EXPECT_TRUE(r.spindle_refined);
+  EXPECT_NEAR(r.spindle_hz_measured, actual, 1e-3 * actual);
+  EXPECT_EQ(r.verdict, Verdict::stable) << r.reason;
+}
+
+TEST(RecordingAnalysis, SidebandsBelongToTheirChatterLine) {
+  auto tones = forced(kSpindle);
+  const double fc = 913.7, tooth = 2 * kSpindle;
+  tones.push_back({fc, 1.5});
+  tones.push_back({fc + tooth, 0.6});
+  tones.push_back({fc - tooth, 0.5});
+  tones.push_back({2 * tooth + fc, 0.3});
+  tones.push_back({2500.3, 0.9});  // another, weaker than the family
+  const auto r = analyze(signal(tones, 10.0, 0.01));
+  EXPECT_EQ(r.verdict, Verdict::chatter);
+  // The family (fc and its sidebands) outweighs the lone 2500 Hz line.
+  EXPECT_NEAR(r.chatter_hz, fc, r.resolution_hz);
+}
+
+TEST(RecordingAnalysis, SignalsThatCannotDecideAreUnknownWithAReason) {
+  // Shorter than ten revolutions.
+  auto r = analyze(signal(forced(kSpindle), 0.15, 0.01));
+  EXPECT_EQ(r.verdict, Verdict::unknown);
+  EXPECT_NE(r.reason.find("revolutions"), std::string::npos) << r.reason;
+  // A sample rate below twice the tooth frequency.
+  ListenOptions fast;
+  fast.commanded_spindle_hz = 3000.0;  // 2 teeth: 6 kHz > kRate / 2
+  r = analyze(signal({{700.0, 1.0}}, 2.0, 0.01), fast);
+  EXPECT_EQ(r.verdict, Verdict::unknown);
+  EXPECT_NE(r.reason.find("sample rate"), std::string::npos) << r.reason;
+  // Clipped.
+  auto x = signal(forced(kSpindle), 10.0, 0.01);
+  for (double& v : x)
+    v = std::clamp(v, -1.0, 1.0);
+  ListenOptions options;
+  options.commanded_spindle_hz = kSpindle;
+  options.teeth = 2;
+  VectorSource clipped(x, kRate, SignalKind::sound, 1.0);
+  r = analyze_recording(clipped, options);
+  EXPECT_EQ(r.verdict, Verdict::unknown);
+  EXPECT_GT(r.clipped_fraction, 1e-3);
+  EXPECT_NE(r.reason.find("clipped"), std::string::npos) << r.reason;
+  // Noise alone: no line.
+  r = analyze(signal({}, 10.0, 0.1));
+  EXPECT_EQ(r.verdict, Verdict::unknown) << r.reason;
+  // No spindle speed: an error.
+  VectorSource none(x, kRate);
+  EXPECT_THROW(analyze_recording(none, ListenOptions{}), std::invalid_argument);
+}
+
+/// A source that hands out at most `block` samples per read.
+class Chunked final : public SignalSource {
+ public:
+  Chunked(std::vector<double> x, std::size_t block) : inner_(std::move(x), kRate), block_(block) {}
+  const SignalInfo& info() const override { return inner_.info(); }
+  std::size_t read(std::span<double> out) override {
+    return inner_.read(out.first(std::min(out.size(), block_)));
+  }
+
+ private:
+  VectorSource inner_;
+  std::size_t block_;
+};
+
+TEST(RecordingAnalysis, TheVerdictDoesNotDependOnTheBlockSize) {
+  auto tones = forced(kSpindle);
+  tones.push_back({737.3, 2.0});
+  const auto x = signal(tones, 10.0, 0.01);
+  ListenOptions options;
+  options.commanded_spindle_hz = kSpindle;
+  options.teeth = 2;
+  Chunked small(x, 1000), large(x, 65536);
+  const auto a = analyze_recording(small, options);
+  const auto b = analyze_recording(large, options);
+  EXPECT_EQ(a.verdict, b.verdict);
+  EXPECT_EQ(a.chatter_hz, b.chatter_hz);
+  EXPECT_EQ(a.psd, b.psd);
+  EXPECT_EQ(a.chatter_energy_fraction, b.chatter_energy_fraction);
+}
+
+TEST(RecordingAnalysis, TheSpectrogramIsCapped) {
+  ListenOptions options;
+  options.commanded_spindle_hz = 200.0;
+  options.teeth = 2;
+  options.max_spectrogram_frames = 16;
+  auto tones = forced(200.0);
+  const auto r = analyze(signal(tones, 60.0, 0.01), options);
+  EXPECT_LE(r.spectrogram_time_s.size(), 16u);
+  EXPECT_GE(r.spectrogram_time_s.size(), 8u);
+  EXPECT_EQ(r.spectrogram_psd.size(),
+            r.spectrogram_time_s.size() * r.spectrogram_frequency_hz.size());
+  EXPECT_LE(r.spectrogram_frequency_hz.size(), 1024u);
+}
+
+TEST(RecordingAnalysis, OnsetIsWhereTheChatterBegins) {
+  auto x = signal(forced(kSpindle), 30.0, 0.01);
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const double t = static_cast<double>(i) / kRate;
+    if (t > 15.0)
+      x[i] += 3.0 * std::sin(kTwoPi * 737.3 * t);
+  }
+  const auto r = analyze(x);
+  ASSERT_EQ(r.verdict, Verdict::chatter) << r.reason;
+
+  ASSERT_TRUE(r.onset_s.has_value());
+  const double frame =
+      r.spectrogram_time_s.size() > 1 ? r.spectrogram_time_s[1] - r.spectrogram_time_s[0] : 30.0;
+  EXPECT_NEAR(*r.onset_s, 15.0, 2.0 * frame);
+}
+
+TEST(SpindleSuggestions, TheLobeCentreRule) {
+  // n = 60 fc / (N (k+1)): fc = 900 Hz, 2 teeth → 450, 225, 150, 112.5 Hz.
+  const auto s = suggest_spindle_speeds(900.0, 2, 100.0, 300.0);
+  ASSERT_EQ(s.size(), 4u - 1u);
+  EXPECT_DOUBLE_EQ(s[0].spindle_hz, 225.0);
+  EXPECT_EQ(s[0].harmonic, 2);
+  EXPECT_DOUBLE_EQ(s[1].spindle_hz, 150.0);
+  EXPECT_DOUBLE_EQ(s[2].spindle_hz, 112.5);
+  EXPECT_TRUE(suggest_spindle_speeds(900.0, 2, 500.0, 600.0).empty());
+  EXPECT_TRUE(suggest_spindle_speeds(0.0, 2, 1.0, 600.0).empty());
+}
+
+TEST(SignalSource, VectorSourceDeliversItsSamplesOnce) {
+  VectorSource source({1.0, 2.0, 3.0}, 10.0, SignalKind::force);
+  EXPECT_EQ(source.info().samples, 3);
+  EXPECT_STREQ(signal_kind_unit(source.info().kind), "N");
+  std::vector<double> out(2);
+  EXPECT_EQ(source.read(out), 2u);
+  EXPECT_EQ(source.read(out), 1u);
+  EXPECT_EQ(out[0], 3.0);
+  EXPECT_EQ(source.read(out), 0u);
+}
+
+}  // namespace
