@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <fstream>
 #include <initializer_list>
+#include <span>
 #include <stdexcept>
 
 #include "robomill/core/error.hpp"
@@ -494,157 +495,356 @@ double decode(std::string_view bytes, std::size_t offset, bool is_double, bool l
   return static_cast<double>(std::bit_cast<float>(static_cast<std::uint32_t>(bits)));
 }
 
-// One dataset 58 after its "58"/"58b" line; appends it to `out` when it is an FRF.
-void read_dataset_58(Reader& reader, const BinaryHeader& header, int start_line,
-                     const std::optional<UnitFactors>& units, const Uff58ReadOptions& options,
-                     std::vector<UffFrf>& out, std::optional<std::pair<int, long long>>& skipped) {
-  UffFrf result;
-  result.line = start_line;
-  result.frf.label = std::string(text::trim(reader.require_line("record 1 (ID line 1)")));
-  for (std::size_t i = 0; i < result.id_lines.size(); ++i)
-    result.id_lines[i] = std::string(
+// Records 1-11 of a dataset 58, after its "58"/"58b" line: what every
+// function type shares.
+struct Header58 {
+  std::string label;                    ///< record 1
+  std::array<std::string, 4> id_lines;  ///< records 2..5
+  int dof_line = 0;
+  long long function_type = 0;
+  std::string response_entity;
+  int response_node = 0;
+  long long response_direction = 0;
+  std::string reference_entity;
+  int reference_node = 0;
+  long long reference_direction = 0;
+  int form_line = 0;
+  long long data_type = 0;
+  long long count = 0;
+  bool even = true;
+  bool is_double = true;
+  bool is_complex = true;
+  double min = 0.0;        ///< record 7 abscissa minimum (even spacing)
+  double increment = 0.0;  ///< record 7 abscissa increment (even spacing)
+  AxisRecord abscissa, numerator, denominator;
+};
+
+Header58 read_header_58(Reader& reader) {
+  Header58 h;
+  h.label = std::string(text::trim(reader.require_line("record 1 (ID line 1)")));
+  for (std::size_t i = 0; i < h.id_lines.size(); ++i)
+    h.id_lines[i] = std::string(
         text::trim(reader.require_line("record " + std::to_string(i + 2) + " (ID line)")));
 
   // Record 6: 2(I5,I10),2(1X,10A1,I10,I4).
   const std::string_view dof = reader.require_line("record 6 (DOF identification)");
-  const int dof_line = reader.line();
+  h.dof_line = reader.line();
   require_columns(reader, dof, 80, "record 6");
-  const long long function_type = integer_field(reader, dof, 0, 5, "record 6 function type");
-  result.response_entity = std::string(column(dof, 31, 10));
-  result.response_node =
-      static_cast<int>(integer_field(reader, dof, 41, 10, "record 6 response node"));
-  const long long response_direction =
-      integer_field(reader, dof, 51, 4, "record 6 response direction");
-  result.reference_entity = std::string(column(dof, 56, 10));
-  result.reference_node =
+  h.function_type = integer_field(reader, dof, 0, 5, "record 6 function type");
+  h.response_entity = std::string(column(dof, 31, 10));
+  h.response_node = static_cast<int>(integer_field(reader, dof, 41, 10, "record 6 response node"));
+  h.response_direction = integer_field(reader, dof, 51, 4, "record 6 response direction");
+  h.reference_entity = std::string(column(dof, 56, 10));
+  h.reference_node =
       static_cast<int>(integer_field(reader, dof, 66, 10, "record 6 reference node"));
-  const long long reference_direction =
-      integer_field(reader, dof, 76, 4, "record 6 reference direction");
+  h.reference_direction = integer_field(reader, dof, 76, 4, "record 6 reference direction");
 
   // Record 7: 3I10,3E13.5 (read as blank-separated numbers, so wider fields work).
   const std::string_view form = reader.require_line("record 7 (data form)");
-  const int form_line = reader.line();
+  h.form_line = reader.line();
   const auto tokens = numeric_tokens(form);
   if (tokens.size() != 6)
-    reader.fail(form_line,
+    reader.fail(h.form_line,
                 "wrong record length: record 7 needs 6 fields (3 integers, 3 reals), got " +
                     std::to_string(tokens.size()));
   const auto data_type = parse_integer(tokens[0]);
   const auto count = parse_integer(tokens[1]);
   const auto spacing = parse_integer(tokens[2]);
-  const auto min_hz = parse_real(tokens[3]);
-  const auto increment_hz = parse_real(tokens[4]);
-  if (!data_type || !count || !spacing || !min_hz || !increment_hz || !parse_real(tokens[5]))
-    reader.fail(form_line, "record 7: non-numeric field in " + shown(form));
+  const auto min = parse_real(tokens[3]);
+  const auto increment = parse_real(tokens[4]);
+  if (!data_type || !count || !spacing || !min || !increment || !parse_real(tokens[5]))
+    reader.fail(h.form_line, "record 7: non-numeric field in " + shown(form));
   if (*count < 1 || *count > kMaxPoints)
-    reader.fail(form_line, "record 7: number of points " + std::to_string(*count) + " outside 1.." +
-                               std::to_string(kMaxPoints));
+    reader.fail(h.form_line, "record 7: number of points " + std::to_string(*count) +
+                                 " outside 1.." + std::to_string(kMaxPoints));
   if (*spacing != 0 && *spacing != 1)
-    reader.fail(form_line, "record 7: abscissa spacing must be 0 (uneven) or 1 (even), got " +
-                               std::to_string(*spacing));
+    reader.fail(h.form_line, "record 7: abscissa spacing must be 0 (uneven) or 1 (even), got " +
+                                 std::to_string(*spacing));
   if (*data_type != 2 && *data_type != 4 && *data_type != 5 && *data_type != 6)
-    reader.fail(form_line, "record 7: unknown ordinate data type " + std::to_string(*data_type) +
-                               " (2, 4 real; 5, 6 complex)");
-  const bool is_double = *data_type == 4 || *data_type == 6;
-  const bool is_complex = *data_type == 5 || *data_type == 6;
-  const bool even = *spacing == 1;
+    reader.fail(h.form_line, "record 7: unknown ordinate data type " + std::to_string(*data_type) +
+                                 " (2, 4 real; 5, 6 complex)");
+  h.data_type = *data_type;
+  h.count = *count;
+  h.is_double = *data_type == 4 || *data_type == 6;
+  h.is_complex = *data_type == 5 || *data_type == 6;
+  h.even = *spacing == 1;
+  h.min = *min;
+  h.increment = *increment;
 
-  const AxisRecord abscissa = read_axis_record(reader, "record 8");
-  const AxisRecord numerator = read_axis_record(reader, "record 9");
-  const AxisRecord denominator = read_axis_record(reader, "record 10");
+  h.abscissa = read_axis_record(reader, "record 8");
+  h.numerator = read_axis_record(reader, "record 9");
+  h.denominator = read_axis_record(reader, "record 10");
   read_axis_record(reader, "record 11");
+  return h;
+}
 
-  if (function_type != 4) {
-    // Spectra, coherences, time histories: not FRFs; skipped.
-    if (!skipped)
-      skipped = std::make_pair(dof_line, function_type);
-    if (header.binary) {
-      reader.take_bytes(binary_layout(reader, header, *count, even, is_double, is_complex).bytes);
-      expect_delimiter_after_binary(reader);
-    } else {
-      skip_to_delimiter(reader, start_line, 58);
-    }
-    return;
-  }
-
-  if (!is_complex)
-    reader.fail(form_line, "record 7: an FRF needs complex ordinates (data type 5 or 6), got " +
-                               std::to_string(*data_type));
-  if (even && (!std::isfinite(*min_hz) || *min_hz < 0.0 || !std::isfinite(*increment_hz) ||
-               (*count > 1 && !(*increment_hz > 0.0))))
-    reader.fail(form_line,
-                "record 7: even spacing needs a finite minimum >= 0 Hz and a positive "
-                "increment");
-  if (abscissa.specific_type != 18 && abscissa.specific_type != 0)
-    reader.fail(abscissa.line, "unknown abscissa type " + std::to_string(abscissa.specific_type) +
-                                   " (expected 18 = frequency in Hz)");
-  if (denominator.specific_type != 13 && denominator.specific_type != 9 &&
-      denominator.specific_type != 0)
-    reader.fail(denominator.line,
-                "the FRF denominator must be a force (specific data type 13), "
-                "got " +
-                    std::to_string(denominator.specific_type));
-  result.frf.kind = ordinate_kind(reader, numerator, options);
-  double sign = 1.0;
-  result.frf.response_axis =
-      axis_of(reader, dof_line, response_direction, options.response_axis, "response", sign);
-  result.frf.reference_axis =
-      axis_of(reader, dof_line, reference_direction, options.reference_axis, "reference", sign);
-
-  Points points;
-  points.even = even;
-  points.min_hz = *min_hz;
-  points.increment_hz = *increment_hz;
-  points.factor = sign * ordinate_scale(reader, numerator, denominator, units, options);
-  points.frf = &result.frf;
-  const std::size_t stride = even ? 2 : 3;
-  const auto expected = static_cast<std::size_t>(*count) * stride;
-  // Reserve no more than the remaining bytes could hold (a value takes >= 2).
-  const std::size_t plausible =
-      std::min(static_cast<std::size_t>(*count), reader.remaining() / (2 * stride) + 1);
-  result.frf.frequency_hz.reserve(plausible);
-  result.frf.value.reserve(plausible);
-
+// The data values of a dataset 58 in file order (x, then re[, im] per point;
+// no x with even spacing), each handed to add(line, value) with the line it
+// came from; then the end delimiter. ASCII or binary as the header says.
+template <typename Add>
+void read_values_58(Reader& reader, const BinaryHeader& header, const Header58& h, Add&& add) {
+  const std::size_t stride = (h.even ? 0 : 1) + (h.is_complex ? 2 : 1);
+  const auto expected = static_cast<std::size_t>(h.count) * stride;
   if (header.binary) {
-    const BinaryLayout layout = binary_layout(reader, header, *count, even, is_double, true);
+    const BinaryLayout layout =
+        binary_layout(reader, header, h.count, h.even, h.is_double, h.is_complex);
     const int data_line = reader.line() + 1;
     const std::string_view block = reader.take_bytes(layout.bytes);
     std::size_t offset = 0;
     for (std::size_t i = 0; i < expected; ++i) {
       const std::size_t size = layout.slot_bytes[i % stride];
-      points.add(reader, data_line, decode(block, offset, size == 8, header.byte_order == 1));
+      add(data_line, decode(block, offset, size == 8, header.byte_order == 1));
       offset += size;
     }
     expect_delimiter_after_binary(reader);
-  } else {
-    while (true) {
-      const auto line = reader.next_line();
-      if (!line || is_delimiter(*line)) {
-        if (points.index < expected || !line)
-          reader.fail(line ? reader.line() : reader.line() + 1,
-                      "truncated data: record 7 declares " + std::to_string(*count) + " points (" +
-                          std::to_string(expected) + " values), found " +
-                          std::to_string(points.index) + " values" +
-                          (line ? "" : " and no end delimiter"));
-        break;
-      }
-      for (const std::string_view token : numeric_tokens(*line)) {
-        if (points.index == expected)
-          reader.fail(reader.line(), "more values than the " + std::to_string(*count) +
-                                         " points record 7 declares");
-        const auto value = parse_real(token);
-        if (!value)
-          reader.fail(reader.line(), "non-numeric value " + shown(token));
-        points.add(reader, reader.line(), *value);
-      }
+    return;
+  }
+  std::size_t index = 0;
+  while (true) {
+    const auto line = reader.next_line();
+    if (!line || is_delimiter(*line)) {
+      if (index < expected || !line)
+        reader.fail(line ? reader.line() : reader.line() + 1,
+                    "truncated data: record 7 declares " + std::to_string(h.count) + " points (" +
+                        std::to_string(expected) + " values), found " + std::to_string(index) +
+                        " values" + (line ? "" : " and no end delimiter"));
+      return;
+    }
+    for (const std::string_view token : numeric_tokens(*line)) {
+      if (index == expected)
+        reader.fail(reader.line(), "more values than the " + std::to_string(h.count) +
+                                       " points record 7 declares");
+      const auto value = parse_real(token);
+      if (!value)
+        reader.fail(reader.line(), "non-numeric value " + shown(token));
+      ++index;
+      add(reader.line(), *value);
     }
   }
+}
+
+// Passes over the data of a dataset 58 of another function type.
+void skip_values_58(Reader& reader, const BinaryHeader& header, const Header58& h, int start_line) {
+  if (header.binary) {
+    reader.take_bytes(
+        binary_layout(reader, header, h.count, h.even, h.is_double, h.is_complex).bytes);
+    expect_delimiter_after_binary(reader);
+  } else {
+    skip_to_delimiter(reader, start_line, 58);
+  }
+}
+
+// The first dataset 58 of another function type than the one read: its
+// record 6 line and type, for the "nothing found" message.
+using Skipped = std::optional<std::pair<int, long long>>;
+
+// One dataset 58 after its "58"/"58b" line; appends it to `out` when it is an FRF.
+void read_dataset_58(Reader& reader, const BinaryHeader& header, int start_line,
+                     const std::optional<UnitFactors>& units, const Uff58ReadOptions& options,
+                     std::vector<UffFrf>& out, Skipped& skipped) {
+  const Header58 h = read_header_58(reader);
+  if (h.function_type != 4) {
+    // Spectra, coherences, time histories: not FRFs; skipped.
+    if (!skipped)
+      skipped = std::make_pair(h.dof_line, h.function_type);
+    skip_values_58(reader, header, h, start_line);
+    return;
+  }
+  UffFrf result;
+  result.line = start_line;
+  result.frf.label = h.label;
+  result.id_lines = h.id_lines;
+  result.response_entity = h.response_entity;
+  result.response_node = h.response_node;
+  result.reference_entity = h.reference_entity;
+  result.reference_node = h.reference_node;
+
+  if (!h.is_complex)
+    reader.fail(h.form_line, "record 7: an FRF needs complex ordinates (data type 5 or 6), got " +
+                                 std::to_string(h.data_type));
+  if (h.even && (!std::isfinite(h.min) || h.min < 0.0 || !std::isfinite(h.increment) ||
+                 (h.count > 1 && !(h.increment > 0.0))))
+    reader.fail(h.form_line,
+                "record 7: even spacing needs a finite minimum >= 0 Hz and a positive "
+                "increment");
+  if (h.abscissa.specific_type != 18 && h.abscissa.specific_type != 0)
+    reader.fail(h.abscissa.line, "unknown abscissa type " +
+                                     std::to_string(h.abscissa.specific_type) +
+                                     " (expected 18 = frequency in Hz)");
+  if (h.denominator.specific_type != 13 && h.denominator.specific_type != 9 &&
+      h.denominator.specific_type != 0)
+    reader.fail(h.denominator.line,
+                "the FRF denominator must be a force (specific data type 13), "
+                "got " +
+                    std::to_string(h.denominator.specific_type));
+  result.frf.kind = ordinate_kind(reader, h.numerator, options);
+  double sign = 1.0;
+  result.frf.response_axis =
+      axis_of(reader, h.dof_line, h.response_direction, options.response_axis, "response", sign);
+  result.frf.reference_axis =
+      axis_of(reader, h.dof_line, h.reference_direction, options.reference_axis, "reference", sign);
+
+  Points points;
+  points.even = h.even;
+  points.min_hz = h.min;
+  points.increment_hz = h.increment;
+  points.factor = sign * ordinate_scale(reader, h.numerator, h.denominator, units, options);
+  points.frf = &result.frf;
+  const std::size_t stride = h.even ? 2 : 3;
+  // Reserve no more than the remaining bytes could hold (a value takes >= 2).
+  const std::size_t plausible =
+      std::min(static_cast<std::size_t>(h.count), reader.remaining() / (2 * stride) + 1);
+  result.frf.frequency_hz.reserve(plausible);
+  result.frf.value.reserve(plausible);
+  read_values_58(reader, header, h,
+                 [&](int line, double value) { points.add(reader, line, value); });
   try {
     dynamics::validate(result.frf);
   } catch (const std::invalid_argument& error) {
     reader.fail(start_line, error.what());
   }
   out.push_back(std::move(result));
+}
+
+// A time record's ordinate unit: the SI unit it converts to and the factor;
+// nullopt for a label that names no unit known here (volts, counts).
+struct TimeUnit {
+  std::string si;
+  double scale_to_si = 1.0;
+};
+
+std::optional<TimeUnit> time_unit(std::string_view label) {
+  const std::string unit = normalized_label(label);
+  if (const auto motion = ordinate_unit(unit); motion && !motion->per_force) {
+    static constexpr const char* kSi[] = {"m", "m/s", "m/s^2"};
+    return TimeUnit{kSi[static_cast<int>(motion->kind)], motion->scale_to_si};
+  }
+  if (const auto force = force_unit(unit))
+    return TimeUnit{"N", *force};
+  if (const auto pressure = unit_in(unit, {{"Pa", 1.0}, {"kPa", 1e3}, {"mPa", 1e-3}}))
+    return TimeUnit{"Pa", *pressure};
+  return std::nullopt;
+}
+
+// Record 9 specific data types of time records: the quantity's name and the
+// SI unit it implies when the label is blank.
+struct Quantity {
+  long long type;
+  const char* name;
+  const char* si_unit;
+};
+constexpr Quantity kQuantities[] = {
+    {8, "Displacement", "m"}, {11, "Velocity", "m/s"}, {12, "Acceleration", "m/s^2"},
+    {9, "Force", "N"},        {13, "Force", "N"},      {15, "Pressure", "Pa"}};
+
+Quantity quantity_of(long long type) {
+  for (const Quantity& quantity : kQuantities) {
+    if (quantity.type == type)
+      return quantity;
+  }
+  return {type, "Response", ""};
+}
+
+// One dataset 58 after its "58"/"58b" line; appends it to `out` when it is a
+// time response (function type 1).
+void read_time_dataset_58(Reader& reader, const BinaryHeader& header, int start_line,
+                          const std::optional<UnitFactors>& units, std::vector<UffTimeRecord>& out,
+                          Skipped& skipped) {
+  const Header58 h = read_header_58(reader);
+  if (h.function_type != 1) {
+    if (!skipped)
+      skipped = std::make_pair(h.dof_line, h.function_type);
+    skip_values_58(reader, header, h, start_line);
+    return;
+  }
+  if (h.is_complex)
+    reader.fail(h.form_line,
+                "record 7: a time record needs real ordinates (data type 2 or 4), got " +
+                    std::to_string(h.data_type));
+  if (h.abscissa.specific_type != 17 && h.abscissa.specific_type != 0)
+    reader.fail(h.abscissa.line, "unknown abscissa type " +
+                                     std::to_string(h.abscissa.specific_type) +
+                                     " for a time record (expected 17 = time in s)");
+  double time_scale = 1.0;
+  const std::string abscissa_unit = normalized_label(h.abscissa.units_label);
+  if (abscissa_unit == "ms")
+    time_scale = 1e-3;
+  else if (!is_blank_label(abscissa_unit) && abscissa_unit != "s" && abscissa_unit != "sec")
+    reader.fail(h.abscissa.line,
+                "unknown time unit " + shown(h.abscissa.units_label) + " (known: s, ms)");
+  if (h.even &&
+      (!std::isfinite(h.min) || !std::isfinite(h.increment) || !(h.increment * time_scale > 0.0)))
+    reader.fail(h.form_line,
+                "record 7: a time record needs a finite start and a positive time increment");
+  if (!h.even && h.count < 2)
+    reader.fail(h.form_line, "record 7: an unevenly spaced time record needs 2 points or more");
+
+  UffTimeRecord record;
+  record.label = h.label;
+  record.id_lines = h.id_lines;
+  record.response_entity = h.response_entity;
+  record.response_node = h.response_node;
+  record.response_direction = static_cast<int>(h.response_direction);
+  record.specific_type = static_cast<int>(h.numerator.specific_type);
+  record.line = start_line;
+  double factor = 1.0;
+  if (is_blank_label(h.numerator.units_label)) {
+    factor = factor_scale(units, h.numerator);
+    record.unit = quantity_of(h.numerator.specific_type).si_unit;
+  } else if (const auto unit = time_unit(h.numerator.units_label)) {
+    factor = unit->scale_to_si;
+    record.unit = unit->si;
+  } else {
+    // Volts, counts: no SI conversion is known; the values stay as written
+    // and the caller's scale (the sensor's sensitivity) converts them.
+    record.unit = std::string(text::trim(h.numerator.units_label));
+    record.unit_is_si = false;
+  }
+  if (!std::isfinite(factor) || !(factor > 0.0))
+    reader.fail(h.numerator.line, "the unit exponents give no finite conversion factor to SI");
+
+  std::vector<double> time;
+  const std::size_t plausible =
+      std::min(static_cast<std::size_t>(h.count), reader.remaining() / 2 + 1);
+  record.value.reserve(plausible);
+  if (!h.even)
+    time.reserve(plausible);
+  int first_bad_line = 0;
+  std::size_t index = 0;
+  read_values_58(reader, header, h, [&](int line, double value) {
+    if (!std::isfinite(value))
+      reader.fail(line, "non-finite value (NaN or infinity) in the data");
+    const bool is_time = !h.even && index % 2 == 0;
+    ++index;
+    if (is_time) {
+      time.push_back(value * time_scale);
+      if (time.size() >= 3 && first_bad_line == 0) {
+        // Uniform within 1e-3 of the first interval, so that a sample rate exists.
+        const double first = time[1] - time[0];
+        const double step = time.back() - time[time.size() - 2];
+        if (!(first > 0.0) || !(std::abs(step - first) <= 1e-3 * first))
+          first_bad_line = line;
+      } else if (time.size() == 2 && !(time[1] > time[0])) {
+        first_bad_line = line;
+      }
+      return;
+    }
+    const double scaled = value * factor;
+    if (!std::isfinite(scaled))
+      reader.fail(line, "value overflows after conversion to SI units");
+    record.value.push_back(scaled);
+  });
+  if (first_bad_line != 0)
+    reader.fail(first_bad_line,
+                "the abscissa is not uniformly spaced time (within 0.1 % of the first interval)");
+  if (h.even) {
+    record.start_s = h.min * time_scale;
+    record.dt_s = h.increment * time_scale;
+  } else {
+    record.start_s = time.front();
+    record.dt_s = (time.back() - time.front()) / static_cast<double>(time.size() - 1);
+  }
+  out.push_back(std::move(record));
 }
 
 std::optional<UnitFactors> read_dataset_164(Reader& reader, int start_line) {
@@ -746,17 +946,13 @@ void append_little_endian(std::string& out, double value) {
     out += static_cast<char>((bits >> (8 * k)) & 0xFF);
 }
 
-}  // namespace
-
-std::vector<UffFrf> parse_uff58(std::string_view bytes, std::string_view source_name,
-                                const Uff58ReadOptions& options) {
-  if (options.ordinate_scale_to_si &&
-      (!std::isfinite(*options.ordinate_scale_to_si) || !(*options.ordinate_scale_to_si > 0.0)))
-    throw std::invalid_argument("UFF ordinate scale to SI must be positive and finite");
+// Walks every dataset of a UFF file: dataset 164 sets the unit factors,
+// each dataset 58 goes to on58(reader, header, start line, units), every
+// other dataset (ASCII or binary) is skipped. Returns whether any 58 was seen.
+template <typename On58>
+bool walk_datasets(std::string_view bytes, std::string_view source_name, On58&& on58) {
   Reader reader(bytes, source_name);
-  std::vector<UffFrf> frfs;
   std::optional<UnitFactors> units;
-  std::optional<std::pair<int, long long>> skipped;  // first non-FRF dataset 58
   bool any_58 = false;
   while (const auto line = reader.next_line()) {
     if (text::trim(*line).empty())
@@ -769,7 +965,7 @@ std::vector<UffFrf> parse_uff58(std::string_view bytes, std::string_view source_
         parse_dataset_line(reader, reader.require_line("a dataset number"), number);
     if (number == 58) {
       any_58 = true;
-      read_dataset_58(reader, header, start_line, units, options, frfs, skipped);
+      on58(reader, header, start_line, units);
     } else if (number == 164 && !header.binary) {
       units = read_dataset_164(reader, start_line);
     } else if (header.binary) {
@@ -784,17 +980,22 @@ std::vector<UffFrf> parse_uff58(std::string_view bytes, std::string_view source_
       skip_to_delimiter(reader, start_line, number);
     }
   }
-  if (frfs.empty()) {
-    if (skipped)
-      reader.fail(skipped->first, "no frequency response function in the file: function type " +
-                                      std::to_string(skipped->second) + " is not 4 (FRF)");
-    reader.fail(0, any_58 ? "no frequency response function in the file"
-                          : "no dataset 58 (function at nodal DOF) in the file");
-  }
-  return frfs;
+  return any_58;
 }
 
-std::vector<UffFrf> read_uff58(const std::filesystem::path& file, const Uff58ReadOptions& options) {
+// When a file holds none of the functions asked for: what it holds instead.
+[[noreturn]] void fail_nothing_found(std::string_view source_name, bool any_58,
+                                     const Skipped& skipped, const char* wanted_type,
+                                     const char* wanted) {
+  const Reader reader({}, source_name);
+  if (skipped)
+    reader.fail(skipped->first, std::string("no ") + wanted + " in the file: function type " +
+                                    std::to_string(skipped->second) + " is not " + wanted_type);
+  reader.fail(0, any_58 ? std::string("no ") + wanted + " in the file"
+                        : "no dataset 58 (function at nodal DOF) in the file");
+}
+
+std::string read_file_bytes(const std::filesystem::path& file) {
   std::error_code error;
   const auto size = std::filesystem::file_size(file, error);
   if (!error && size > kMaxFileBytes)
@@ -805,7 +1006,123 @@ std::vector<UffFrf> read_uff58(const std::filesystem::path& file, const Uff58Rea
   std::string bytes(static_cast<std::size_t>(size), '\0');
   stream.read(bytes.data(), static_cast<std::streamsize>(size));
   bytes.resize(static_cast<std::size_t>(stream.gcount()));
-  return parse_uff58(bytes, file.string(), options);
+  return bytes;
+}
+
+// Dataset 164: the SI unit system, so that tools relying on it read SI.
+void append_units_164(std::string& out) {
+  out += "    -1\n   164\n";
+  append_line(out, "%10d%-20s%10d", 1, "SI - m (newton)", 2);
+  out += "  1.00000000000000000D+00  1.00000000000000000D+00  1.00000000000000000D+00\n";
+  out += "  2.73150000000000000D+02\n    -1\n";
+}
+
+// What the writer puts into records 1-11 of a dataset 58.
+struct Header58Out {
+  std::string_view label;
+  const std::array<std::string, 4>* id_lines = nullptr;
+  int function_type = 4;
+  std::size_t number = 1;  ///< record 6's function identification number
+  std::string_view response_entity;
+  int response_node = 1;
+  int response_direction = 1;
+  std::string_view reference_entity;
+  int reference_node = 1;
+  int reference_direction = 1;
+  int data_type = 6;
+  std::size_t count = 0;
+  bool even = true;
+  double min = 0.0;
+  double increment = 0.0;
+  std::size_t values = 0;  ///< data values in all (the 58b byte count / 8)
+  // Records 8-11: specific data type, length/force exponents, name, unit.
+  struct Axis {
+    int type;
+    int length_exponent;
+    int force_exponent;
+    const char* name;
+    std::string unit;
+  };
+  std::array<Axis, 4> axes;
+};
+
+void append_header_58(std::string& out, const Header58Out& h, UffEncoding encoding) {
+  out += "    -1\n";
+  if (encoding == UffEncoding::binary)
+    append_line(out, "%6d%c%6d%6d%12d%12zu%6d%6d%12d%12d", 58, 'b', 1, 2, 11, h.values * 8, 0, 0, 0,
+                0);
+  else
+    out += "    58\n";
+  append_line(out, "%s", sanitized(h.label, 80, "NONE").c_str());
+  for (const std::string& id : *h.id_lines)
+    append_line(out, "%s", sanitized(id, 80, "NONE").c_str());
+  append_line(out, "%5d%10zu%5d%10d %-10s%10d%4d %-10s%10d%4d", h.function_type, h.number, 0, 0,
+              sanitized(h.response_entity, 10, "NONE").c_str(), h.response_node,
+              h.response_direction, sanitized(h.reference_entity, 10, "NONE").c_str(),
+              h.reference_node, h.reference_direction);
+  append_line(out, "%10d%10zu%10d", h.data_type, h.count, h.even ? 1 : 0);
+  out.pop_back();
+  append_real(out, h.even ? h.min : 0.0);
+  append_real(out, h.even ? h.increment : 0.0);
+  out += "  0.00000E+00\n";
+  for (const auto& axis : h.axes)
+    append_line(out, "%10d%5d%5d%5d %-20s %-20s", axis.type, axis.length_exponent,
+                axis.force_exponent, 0, axis.name, sanitized(axis.unit, 20, "NONE").c_str());
+}
+
+// One point's values (ASCII: one line; binary: little-endian doubles).
+void append_point(std::string& out, std::span<const double> values, UffEncoding encoding) {
+  for (const double value : values) {
+    if (encoding == UffEncoding::binary)
+      append_little_endian(out, value);
+    else
+      append_real(out, value);
+  }
+  if (encoding == UffEncoding::ascii)
+    out += '\n';
+}
+
+}  // namespace
+
+std::vector<UffFrf> parse_uff58(std::string_view bytes, std::string_view source_name,
+                                const Uff58ReadOptions& options) {
+  if (options.ordinate_scale_to_si &&
+      (!std::isfinite(*options.ordinate_scale_to_si) || !(*options.ordinate_scale_to_si > 0.0)))
+    throw std::invalid_argument("UFF ordinate scale to SI must be positive and finite");
+  std::vector<UffFrf> frfs;
+  Skipped skipped;  // first non-FRF dataset 58
+  const bool any_58 =
+      walk_datasets(bytes, source_name,
+                    [&](Reader& reader, const BinaryHeader& header, int start_line,
+                        const std::optional<UnitFactors>& units) {
+                      read_dataset_58(reader, header, start_line, units, options, frfs, skipped);
+                    });
+  if (frfs.empty())
+    fail_nothing_found(source_name, any_58, skipped, "4 (FRF)", "frequency response function");
+  return frfs;
+}
+
+std::vector<UffFrf> read_uff58(const std::filesystem::path& file, const Uff58ReadOptions& options) {
+  return parse_uff58(read_file_bytes(file), file.string(), options);
+}
+
+std::vector<UffTimeRecord> parse_uff58_time_records(std::string_view bytes,
+                                                    std::string_view source_name) {
+  std::vector<UffTimeRecord> records;
+  Skipped skipped;  // first dataset 58 of another function type
+  const bool any_58 =
+      walk_datasets(bytes, source_name,
+                    [&](Reader& reader, const BinaryHeader& header, int start_line,
+                        const std::optional<UnitFactors>& units) {
+                      read_time_dataset_58(reader, header, start_line, units, records, skipped);
+                    });
+  if (records.empty())
+    fail_nothing_found(source_name, any_58, skipped, "1 (time response)", "time record");
+  return records;
+}
+
+std::vector<UffTimeRecord> read_uff58_time_records(const std::filesystem::path& file) {
+  return parse_uff58_time_records(read_file_bytes(file), file.string());
 }
 
 std::string format_uff58(const std::vector<UffFrf>& frfs, UffEncoding encoding) {
@@ -813,11 +1130,7 @@ std::string format_uff58(const std::vector<UffFrf>& frfs, UffEncoding encoding) 
       {"Displacement", "m"}, {"Velocity", "m/s"}, {"Acceleration", "m/s^2"}};
   static constexpr int kOrdinateType[] = {8, 11, 12};
   std::string out;
-  // Dataset 164: the SI unit system, so that tools relying on it read SI.
-  out += "    -1\n   164\n";
-  append_line(out, "%10d%-20s%10d", 1, "SI - m (newton)", 2);
-  out += "  1.00000000000000000D+00  1.00000000000000000D+00  1.00000000000000000D+00\n";
-  out += "  2.73150000000000000D+02\n    -1\n";
+  append_units_164(out);
   for (std::size_t n = 0; n < frfs.size(); ++n) {
     const UffFrf& uff = frfs[n];
     const dynamics::Frf& frf = uff.frf;
@@ -831,42 +1144,31 @@ std::string format_uff58(const std::vector<UffFrf>& frfs, UffEncoding encoding) 
     bool even = count > 1;
     for (std::size_t i = 0; even && i < count; ++i)
       even = min_hz + static_cast<double>(i) * increment_hz == frf.frequency_hz[i];
-    const std::size_t values = count * (even ? 2 : 3);
-    const bool binary = encoding == UffEncoding::binary;
-    out += "    -1\n";
-    if (binary)
-      append_line(out, "%6d%c%6d%6d%12d%12zu%6d%6d%12d%12d", 58, 'b', 1, 2, 11, values * 8, 0, 0, 0,
-                  0);
-    else
-      out += "    58\n";
-    append_line(out, "%s", sanitized(frf.label, 80, "NONE").c_str());
-    for (const std::string& id : uff.id_lines)
-      append_line(out, "%s", sanitized(id, 80, "NONE").c_str());
-    append_line(out, "%5d%10zu%5d%10d %-10s%10d%4d %-10s%10d%4d", 4, n + 1, 0, 0,
-                sanitized(uff.response_entity, 10, "NONE").c_str(), uff.response_node,
-                frf.response_axis + 1, sanitized(uff.reference_entity, 10, "NONE").c_str(),
-                uff.reference_node, frf.reference_axis + 1);
-    append_line(out, "%10d%10zu%10d", 6, count, even ? 1 : 0);
-    out.pop_back();
-    append_real(out, even ? min_hz : 0.0);
-    append_real(out, even ? increment_hz : 0.0);
-    out += "  0.00000E+00\n";
     const auto kind = static_cast<std::size_t>(frf.kind);
-    append_line(out, "%10d%5d%5d%5d %-20s %-20s", 18, 0, 0, 0, "Frequency", "Hz");
-    append_line(out, "%10d%5d%5d%5d %-20s %-20s", kOrdinateType[kind], 1, 0, 0, kOrdinate[kind][0],
-                kOrdinate[kind][1]);
-    append_line(out, "%10d%5d%5d%5d %-20s %-20s", 13, 0, 1, 0, "Force", "N");
-    append_line(out, "%10d%5d%5d%5d %-20s %-20s", 0, 0, 0, 0, "NONE", "NONE");
+    Header58Out h{.label = frf.label,
+                  .id_lines = &uff.id_lines,
+                  .function_type = 4,
+                  .number = n + 1,
+                  .response_entity = uff.response_entity,
+                  .response_node = uff.response_node,
+                  .response_direction = frf.response_axis + 1,
+                  .reference_entity = uff.reference_entity,
+                  .reference_node = uff.reference_node,
+                  .reference_direction = frf.reference_axis + 1,
+                  .data_type = 6,
+                  .count = count,
+                  .even = even,
+                  .min = min_hz,
+                  .increment = increment_hz,
+                  .values = count * (even ? 2 : 3),
+                  .axes = {{{18, 0, 0, "Frequency", "Hz"},
+                            {kOrdinateType[kind], 1, 0, kOrdinate[kind][0], kOrdinate[kind][1]},
+                            {13, 0, 1, "Force", "N"},
+                            {0, 0, 0, "NONE", "NONE"}}}};
+    append_header_58(out, h, encoding);
     for (std::size_t i = 0; i < count; ++i) {
       const double point[3] = {frf.frequency_hz[i], frf.value[i].real(), frf.value[i].imag()};
-      for (std::size_t k = even ? 1 : 0; k < 3; ++k) {
-        if (binary)
-          append_little_endian(out, point[k]);
-        else
-          append_real(out, point[k]);
-      }
-      if (!binary)
-        out += '\n';
+      append_point(out, std::span<const double>(point).subspan(even ? 1 : 0), encoding);
     }
     // After binary data the spec wants the delimiter with no line break between.
     out += "    -1\n";
@@ -877,6 +1179,56 @@ std::string format_uff58(const std::vector<UffFrf>& frfs, UffEncoding encoding) 
 void write_uff58(const std::filesystem::path& file, const std::vector<UffFrf>& frfs,
                  UffEncoding encoding) {
   write_file_atomically(file, format_uff58(frfs, encoding));
+}
+
+std::string format_uff58_time_records(const std::vector<UffTimeRecord>& records,
+                                      UffEncoding encoding) {
+  std::string out;
+  append_units_164(out);
+  for (std::size_t n = 0; n < records.size(); ++n) {
+    const UffTimeRecord& record = records[n];
+    if (record.value.empty() || !std::isfinite(record.dt_s) || !(record.dt_s > 0.0) ||
+        !std::isfinite(record.start_s))
+      throw std::invalid_argument("UFF time record: needs samples, a positive dt and a start");
+    for (const double value : record.value) {
+      if (!std::isfinite(value))
+        throw std::invalid_argument("UFF time record: non-finite sample");
+    }
+    if (record.response_node < -999'999'999 || record.response_direction < -999 ||
+        record.response_direction > 9999)
+      throw std::invalid_argument("UFF time record: node and direction must fit their columns");
+    Header58Out h{
+        .label = record.label,
+        .id_lines = &record.id_lines,
+        .function_type = 1,
+        .number = n + 1,
+        .response_entity = record.response_entity,
+        .response_node = record.response_node,
+        .response_direction = record.response_direction,
+        .reference_entity = "NONE",
+        .reference_node = 0,
+        .reference_direction = 0,
+        .data_type = 4,
+        .count = record.value.size(),
+        .even = true,
+        .min = record.start_s,
+        .increment = record.dt_s,
+        .values = record.value.size(),
+        .axes = {{{17, 0, 0, "Time", "s"},
+                  {record.specific_type, 0, 0, quantity_of(record.specific_type).name, record.unit},
+                  {0, 0, 0, "NONE", "NONE"},
+                  {0, 0, 0, "NONE", "NONE"}}}};
+    append_header_58(out, h, encoding);
+    for (const double value : record.value)
+      append_point(out, std::span<const double>(&value, 1), encoding);
+    out += "    -1\n";
+  }
+  return out;
+}
+
+void write_uff58_time_records(const std::filesystem::path& file,
+                              const std::vector<UffTimeRecord>& records, UffEncoding encoding) {
+  write_file_atomically(file, format_uff58_time_records(records, encoding));
 }
 
 }  // namespace robomill::io

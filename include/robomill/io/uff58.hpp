@@ -81,10 +81,50 @@ std::vector<UffFrf> read_uff58(const std::filesystem::path& file,
 std::vector<UffFrf> parse_uff58(std::string_view bytes, std::string_view source_name,
                                 const Uff58ReadOptions& options = {});
 
+/// One time response (function type 1) of a dataset 58: a recorded signal at
+/// a uniform rate. Read with the FRF reader's conventions (58 and 58b, line
+/// numbers, dataset 164); the abscissa must be time (record 8 type 17 or 0,
+/// unit s, ms or blank) and the ordinate real (data type 2 or 4). An unevenly
+/// spaced record (time, value pairs) is accepted when its times are uniform
+/// within 0.1 % of the first interval.
+struct UffTimeRecord {
+  /// SI (m, m/s, m/s^2, N, Pa) when unit_is_si; else as written in the file.
+  std::vector<double> value;
+  double dt_s = 0.0;     ///< sampling interval
+  double start_s = 0.0;  ///< time of the first sample
+  /// "m/s^2" ... when converted; otherwise the file's label (e.g. "V"),
+  /// which no conversion is known for. Empty: the file does not say.
+  std::string unit;
+  bool unit_is_si = true;
+  int specific_type = 0;  ///< record 9 ordinate specific data type (12: acceleration)
+  std::string label;      ///< record 1
+  std::array<std::string, 4> id_lines;
+  std::string response_entity = "NONE";
+  int response_node = 1;
+  int response_direction = 0;  ///< record 6, as written (1..3 = +x..+z)
+  int line = 0;                ///< line of the dataset's start delimiter when read
+};
+
+/// Every time record (function type 1) of a UFF file, in file order; other
+/// datasets are skipped, a file without a time record is rejected. Throws
+/// InputError (file, line, why).
+std::vector<UffTimeRecord> read_uff58_time_records(const std::filesystem::path& file);
+std::vector<UffTimeRecord> parse_uff58_time_records(std::string_view bytes,
+                                                    std::string_view source_name);
+
 /// The file content; throws std::invalid_argument for an invalid FRF.
 std::string format_uff58(const std::vector<UffFrf>& frfs, UffEncoding encoding);
 /// Written atomically (write_file_atomically).
 void write_uff58(const std::filesystem::path& file, const std::vector<UffFrf>& frfs,
                  UffEncoding encoding);
+
+/// Time records as dataset 58 function type 1 (real double ordinates, even
+/// spacing, record 9 carrying `unit` and `specific_type`), after a dataset 164
+/// "SI"; throws std::invalid_argument for an empty record, a non-positive dt
+/// or a non-finite sample. Written atomically.
+std::string format_uff58_time_records(const std::vector<UffTimeRecord>& records,
+                                      UffEncoding encoding);
+void write_uff58_time_records(const std::filesystem::path& file,
+                              const std::vector<UffTimeRecord>& records, UffEncoding encoding);
 
 }  // namespace robomill::io
