@@ -7,6 +7,7 @@ ASAN_BUILD  ?= build-asan
 FUZZ_SECONDS ?= 60
 FUZZ_FRF_SECONDS ?= 30
 FUZZ_PROGRAM_SECONDS ?= 20
+FUZZ_RECORDING_SECONDS ?= 20
 
 .PHONY: all setup build demo docs test test-release sanitize-build test-sanitize fuzz bench format clean
 
@@ -25,7 +26,8 @@ demo: build
 	./$(BUILD)/robomill fit-modes examples/003_kr270_measured_frf.yaml --out out/demo/fit-modes
 	./$(BUILD)/robomill stability examples/003_kr270_measured_frf.yaml --out out/demo/measured-stability
 	./$(BUILD)/robomill toolpath examples/toolpath_pocket_gcode.yaml --out out/demo/toolpath
-	@echo "demo: results in out/demo/forces (forces.csv, summary.json), out/demo/stability (sld.csv, sld_envelope.csv, summary.json), out/demo/fit-modes (modes.csv, frf_fit.csv, modes.yaml), out/demo/measured-stability (sld.csv from the fitted modes) and out/demo/toolpath (a G-code pocket: samples.csv, moves.csv, stock.csv, report.html)"
+	./$(BUILD)/robomill listen examples/listen/benchmark_displacement_wav.yaml --out out/demo/listen
+	@echo "demo: results in out/demo/forces (forces.csv, summary.json), out/demo/stability (sld.csv, sld_envelope.csv, summary.json), out/demo/fit-modes (modes.csv, frf_fit.csv, modes.yaml), out/demo/measured-stability (sld.csv from the fitted modes), out/demo/toolpath (a G-code pocket: samples.csv, moves.csv, stock.csv, report.html) and out/demo/listen (two recorded cuts judged: recordings.csv, spectrum.csv, spectrogram.csv, report.html)"
 
 # The generated pages of docs/: the job-file reference from the job schema,
 # and the validation report from what the paper-validation tests record
@@ -71,8 +73,9 @@ test-sanitize: sanitize-build
 	cd $(ASAN_BUILD) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
 	  ctest --output-on-failure -j$(JOBS) -E '$(SANITIZE_SKIP)'
 
-# libFuzzer on the job parser, the FRF readers and the program readers (G-code,
-# APT CL, KRL), seeded from fuzz/corpus*; any crash fails.
+# libFuzzer on the job parser, the FRF readers, the program readers (G-code,
+# APT CL, KRL) and the recording readers (WAV/FLAC, MAT, CSV, UFF58 time),
+# seeded from fuzz/corpus*; any crash fails.
 fuzz: sanitize-build
 	mkdir -p $(ASAN_BUILD)/corpus-run $(ASAN_BUILD)/corpus-frf-run
 	@echo "fuzz: job parser for $(FUZZ_SECONDS) s (log: $(ASAN_BUILD)/fuzz.log)"
@@ -96,6 +99,14 @@ fuzz: sanitize-build
 	    || { tail -40 $(ASAN_BUILD)/fuzz-$$reader.log; echo "fuzz: FAILED (crash, leak or hang; reproducer in $(ASAN_BUILD)/)"; exit 1; }; \
 	  grep -E '^(Done|stat::number_of_executed_units|stat::peak_rss_mb)' $(ASAN_BUILD)/fuzz-$$reader.log; \
 	done
+	@echo "fuzz: recording readers for $(FUZZ_RECORDING_SECONDS) s (log: $(ASAN_BUILD)/fuzz-recording.log)"
+	@mkdir -p $(ASAN_BUILD)/corpus-recording-run
+	@LSAN_OPTIONS=suppressions=fuzz/lsan-recording.supp \
+	  ./$(ASAN_BUILD)/fuzz/fuzz_recording_readers -max_total_time=$(FUZZ_RECORDING_SECONDS) \
+	  -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix=$(ASAN_BUILD)/ \
+	  $(ASAN_BUILD)/corpus-recording-run fuzz/corpus-recording > $(ASAN_BUILD)/fuzz-recording.log 2>&1 \
+	  || { tail -40 $(ASAN_BUILD)/fuzz-recording.log; echo "fuzz: FAILED (crash, leak or hang; reproducer in $(ASAN_BUILD)/)"; exit 1; }
+	@grep -E '^(Done|stat::number_of_executed_units|stat::peak_rss_mb)' $(ASAN_BUILD)/fuzz-recording.log
 
 bench: build
 	for b in $(BUILD)/bench/bench_*; do $$b --benchmark_min_time=0.2; done

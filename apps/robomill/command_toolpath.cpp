@@ -2,7 +2,6 @@
 // engagement, forces, torque and power at every sample (docs/toolpath.md).
 
 #include <fmt/format.h>
-#include <unistd.h>
 
 #include <chrono>
 #include <cmath>
@@ -206,29 +205,6 @@ toolpath::Tooling make_tooling(const io::Job& job, const toolpath::Program& prog
   return tooling;
 }
 
-// A one-line progress bar on stderr, only for a terminal.
-class ProgressBar {
- public:
-  explicit ProgressBar(bool enabled) : enabled_(enabled && ::isatty(2)) {}
-  void operator()(double fraction) {
-    if (!enabled_)
-      return;
-    const int percent = static_cast<int>(std::lround(100.0 * fraction));
-    if (percent == last_)
-      return;
-    last_ = percent;
-    const int filled = percent * 40 / 100;
-    std::cerr << fmt::format("\rtoolpath [{:<40}] {:3d}%", std::string(filled, '#'), percent)
-              << std::flush;
-    if (percent >= 100)
-      std::cerr << '\n';
-  }
-
- private:
-  bool enabled_;
-  int last_ = -1;
-};
-
 nlohmann::json warnings_json(const toolpath::ProgramAnalysis& analysis) {
   nlohmann::json list = nlohmann::json::array();
   for (const auto& warning : analysis.warnings)
@@ -307,7 +283,7 @@ CommandResult compute_toolpath(const io::Job& job, int threads,
         throw Error("cannot write " + samples_file.string());
     }
   };
-  ProgressBar bar(progress);
+  ProgressBar bar(progress, "toolpath");
   const toolpath::ProgramAnalysis analysis =
       toolpath::analyse_program(program, tooling, *job.cutting, stock, analysis_settings, sink,
                                 [&](double fraction) { bar(fraction); });

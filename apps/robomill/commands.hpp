@@ -75,6 +75,19 @@ int run_validate(const JobCommandOptions& options);
 /// The sections a job has, in `robomill validate`'s order and names.
 std::vector<std::string> job_sections(const io::Job& job);
 
+/// A one-line progress bar on stderr ("label [####    ]  42%"), drawn only
+/// when `enabled` and stderr is a terminal.
+class ProgressBar {
+ public:
+  ProgressBar(bool enabled, std::string label);
+  void operator()(double fraction);
+
+ private:
+  bool enabled_;
+  std::string label_;
+  int last_ = -1;
+};
+
 /// A job command's whole run: load the job, compute, add the key inputs,
 /// write (with report.html unless --quiet), print the message and the folder.
 int run_job_command(const JobCommandOptions& options, const std::string& command,
@@ -99,7 +112,13 @@ CommandResult compute_toolpath(const io::Job& job, int threads,
                                const std::filesystem::path& samples_file = {},
                                bool progress = false);
 
+/// `robomill listen`: the chatter verdict of the job's recordings (issue 22,
+/// docs/monitoring.md); with a stability: section also the lobes (sld) and
+/// the model's prediction at each recorded cut. `progress`: a bar per file.
+CommandResult compute_listen(const io::Job& job, int threads, bool progress = false);
+
 int run_forces(const JobCommandOptions& options);
+int run_listen(const JobCommandOptions& options);
 int run_stability(const JobCommandOptions& options);
 int run_fit_modes(const JobCommandOptions& options);
 int run_robot(const JobCommandOptions& options);

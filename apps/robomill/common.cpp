@@ -1,5 +1,9 @@
 #include <fmt/format.h>
 
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
 #include <functional>
 #include <iostream>
 
@@ -10,6 +14,23 @@
 #include "robomill/report/report.hpp"
 
 namespace robomill::app {
+
+ProgressBar::ProgressBar(bool enabled, std::string label)
+    : enabled_(enabled && ::isatty(2)), label_(std::move(label)) {}
+
+void ProgressBar::operator()(double fraction) {
+  if (!enabled_)
+    return;
+  const int percent = static_cast<int>(std::lround(100.0 * std::clamp(fraction, 0.0, 1.0)));
+  if (percent == last_)
+    return;
+  last_ = percent;
+  const int filled = percent * 40 / 100;
+  std::cerr << fmt::format("\r{} [{:<40}] {:3d}%", label_, std::string(filled, '#'), percent)
+            << std::flush;
+  if (percent >= 100)
+    std::cerr << '\n';
+}
 
 io::Job load(const JobCommandOptions& options) {
   std::vector<io::Override> overrides;
@@ -116,6 +137,9 @@ std::vector<std::string> job_sections(const io::Job& job) {
   add(job.atlas.has_value(), "atlas");
   add(job.toolpath.has_value(), "toolpath");
   add(job.stock.has_value(), "stock");
+  add(!job.recordings.empty() && !job.recordings_listed, "recording");
+  add(job.recordings_listed, "recordings");
+  add(job.listen.has_value(), "listen");
   return sections;
 }
 

@@ -116,6 +116,15 @@ int run(int argc, char** argv, int rank, int ranks) {
       "summary.json",
       toolpath_options);
 
+  robomill::app::JobCommandOptions listen_options;
+  CLI::App* listen_command = add_job_command(
+      app, "listen",
+      "chatter from a recorded cut (WAV/FLAC/AIFF, MATLAB, CSV, UFF58): spindle speed measured, "
+      "tooth comb, mains and steady lines set aside, the chatter verdict, frequency and onset, "
+      "and the spindle speeds to try → spectrum.csv, spectrogram.csv, recordings.csv, "
+      "summary.json",
+      listen_options);
+
   robomill::app::JobCommandOptions advise_options;
   CLI::App* advise = add_job_command(
       app, "advise",
@@ -263,6 +272,8 @@ int run(int argc, char** argv, int rank, int ranks) {
       return robomill::app::run_surface(surface_options);
     if (toolpath_command->parsed())
       return robomill::app::run_toolpath(toolpath_options);
+    if (listen_command->parsed())
+      return robomill::app::run_listen(listen_options);
     if (identify_stiffness->parsed())
       return robomill::app::run_identify_stiffness(stiffness_options);
     if (frf->parsed())

@@ -37,12 +37,14 @@ __all__ = [
     "InputError",
     "Job",
     "advise",
+    "analyze_signal",
     "deflection",
     "fit_modes",
     "forces",
     "frf",
     "identify_cutting",
     "identify_stiffness",
+    "listen",
     "optimize",
     "robot",
     "simulate",
@@ -247,6 +249,29 @@ def toolpath(job, threads: int = 0, out: Optional[PathLike] = None) -> dict:
     "stock" (the final height map), "samples_preview" and the totals in
     "summary" (cutting_time_s, volume_removed_mm3, max_force_N, ...)."""
     return _result(_robomill.toolpath(_job(job), _threads(threads), _out(out)))
+
+
+def listen(job, threads: int = 0, out: Optional[PathLike] = None) -> dict:
+    """``robomill listen``: the chatter verdict of the job's recordings →
+    "spectrum" (freq_hz, PSD, the cause of each bin), "spectrogram",
+    "recordings" (with ``recordings:``), "sld" (with a stability section) and
+    the verdict in "summary" (chatter, chatter_freq_hz, spindle_rpm_measured,
+    recommended_spindle_rpm, ...)."""
+    return _result(_robomill.listen(_job(job), _threads(threads), _out(out)))
+
+
+def analyze_signal(samples, sample_rate_hz: float, spindle_rpm: float, teeth: int = 1,
+                   full_scale: float = 0.0, ignore_hz=(), threshold: float = 0.5) -> dict:
+    """The ``listen`` detector on samples in memory (a 1-D NumPy array, any
+    unit): "verdict" ("stable", "chatter" or "unknown"), "reason",
+    "chatter_freq_hz", "spindle_rpm_measured", "chatter_energy_fraction",
+    "onset_s", "recommended_spindle_rpm", and the spectra as arrays: "freq_hz",
+    "psd", "cause", "spectrogram_t_s", "spectrogram_freq_hz",
+    "spectrogram_psd" (frames x frequencies). ``full_scale`` > 0 enables the
+    clipping check."""
+    return _robomill.analyze_signal(samples, float(sample_rate_hz), float(spindle_rpm), int(teeth),
+                                    float(full_scale), [float(f) for f in ignore_hz],
+                                    float(threshold))
 
 
 def frf(job, from_: str = "", to: str = "", step: str = "", spacing: str = "linear",

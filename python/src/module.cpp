@@ -22,6 +22,7 @@
 #include "robomill/core/error.hpp"
 #include "robomill/io/job.hpp"
 #include "robomill/io/summary.hpp"
+#include "robomill/monitoring/recording_analysis.hpp"
 
 namespace py = pybind11;
 using robomill::app::CommandResult;
@@ -245,10 +246,78 @@ PYBIND11_MODULE(_robomill, m) {
         const robomill::io::Job& job = job_of(handle);
         // In memory: the samples come back as arrays (the command line
         // streams them to samples.csv instead).
-        return run([&] { return robomill::app::compute_toolpath(job, threads); }, out,
-                   job.output, &job);
+        return run([&] { return robomill::app::compute_toolpath(job, threads); }, out, job.output,
+                   &job);
       },
       py::arg("job"), py::arg("threads") = 0, py::arg("out") = py::none());
+  job_command("listen", [](const robomill::io::Job& job, int threads) {
+    return robomill::app::compute_listen(job, threads);
+  });
+  // The detector on samples already in memory (a NumPy array): the same
+  // analysis `listen` runs on a file, spectra back as arrays.
+  m.def(
+      "analyze_signal",
+      [](const py::array_t<double, py::array::c_style | py::array::forcecast>& samples,
+         double sample_rate_hz, double spindle_rpm, int teeth, double full_scale,
+         const std::vector<double>& ignore_hz, double threshold) {
+        if (samples.ndim() != 1)
+          throw robomill::InputError("samples", 0, "expected a one-dimensional array");
+        std::vector<double> copy(samples.data(), samples.data() + samples.size());
+        robomill::monitoring::ListenOptions options;
+        options.commanded_spindle_hz = spindle_rpm / 60.0;
+        options.teeth = teeth;
+        options.chatter_energy_threshold = threshold;
+        for (double f : ignore_hz)
+          options.ignore.push_back({f, 0.0});
+        robomill::monitoring::RecordingAnalysis a;
+        {
+          py::gil_scoped_release release;
+          robomill::monitoring::VectorSource source(
+              std::move(copy), sample_rate_hz, robomill::monitoring::SignalKind::sound, full_scale);
+          a = robomill::monitoring::analyze_recording(source, options);
+        }
+        const auto array = [](const std::vector<double>& v) {
+          py::array_t<double> out(static_cast<py::ssize_t>(v.size()));
+          std::copy(v.begin(), v.end(), out.mutable_data());
+          return out;
+        };
+        py::list causes;
+        for (auto c : a.cause)
+          causes.append(py::str(robomill::monitoring::line_cause_name(c)));
+        py::array_t<double> spectrogram(
+            {static_cast<py::ssize_t>(a.spectrogram_time_s.size()),
+             static_cast<py::ssize_t>(a.spectrogram_frequency_hz.size())});
+        std::copy(a.spectrogram_psd.begin(), a.spectrogram_psd.end(), spectrogram.mutable_data());
+        py::dict d;
+        d["verdict"] = robomill::monitoring::verdict_name(a.verdict);
+        d["reason"] = a.reason;
+        d["chatter_freq_hz"] = a.chatter_hz;
+        d["spindle_rpm_measured"] = a.spindle_hz_measured * 60.0;
+        d["spindle_refined"] = a.spindle_refined;
+        d["tooth_freq_hz"] = a.tooth_hz;
+        d["chatter_energy_fraction"] = a.chatter_energy_fraction;
+        d["forced_energy_fraction"] = a.forced_energy_fraction;
+        d["ignored_energy_fraction"] = a.ignored_energy_fraction;
+        d["onset_s"] = a.onset_s ? py::object(py::float_(*a.onset_s)) : py::object(py::none());
+        d["duration_s"] = a.duration_s;
+        d["freq_hz"] = array(a.frequency_hz);
+        d["psd"] = array(a.psd);
+        d["cause"] = causes;
+        d["spectrogram_t_s"] = array(a.spectrogram_time_s);
+        d["spectrogram_freq_hz"] = array(a.spectrogram_frequency_hz);
+        d["spectrogram_psd"] = spectrogram;
+        py::list recommended;
+        if (a.verdict == robomill::monitoring::Verdict::chatter && a.chatter_hz > 0.0)
+          for (const auto& s : robomill::monitoring::suggest_spindle_speeds(
+                   a.chatter_hz, teeth, 0.5 * options.commanded_spindle_hz,
+                   1.5 * options.commanded_spindle_hz))
+            recommended.append(s.spindle_hz * 60.0);
+        d["recommended_spindle_rpm"] = recommended;
+        return d;
+      },
+      py::arg("samples"), py::arg("sample_rate_hz"), py::arg("spindle_rpm"), py::arg("teeth") = 1,
+      py::arg("full_scale") = 0.0, py::arg("ignore_hz") = std::vector<double>{},
+      py::arg("threshold") = 0.5);
   m.def(
       "deflection",
       [](const JobHandle& handle, int threads, const Out& out) {

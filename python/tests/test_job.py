@@ -273,3 +273,37 @@ def test_toolpath_refuses_a_program_by_line_and_word(source):
     with pytest.raises(robomill.InputError) as error:
         robomill.toolpath(job)
     assert error.value.line == 8 and "G41" in str(error.value)
+
+
+def test_listen_spectra_are_arrays_and_match_the_cli(source, cli, tmp_path):
+    job = source / "examples" / "listen" / "benchmark_displacement_wav.yaml"
+    result = robomill.listen(job)
+    spectrum = result["spectrum"]
+    assert isinstance(spectrum["freq_hz"], np.ndarray) and spectrum["freq_hz"].dtype == np.float64
+    assert set(spectrum["cause"]) >= {"tooth", "chatter"}
+    assert [r["verdict"] for r in result["summary"]["recordings"]] == ["stable", "chatter"]
+    assert list(result["recordings"]["chatter"]) == ["stable", "chatter"]
+    run_cli(cli, ["listen", job], tmp_path / "cli")
+    cli = json.loads((tmp_path / "cli" / "summary.json").read_text())
+    assert strip_timings(cli)["recordings"] == strip_timings(result["summary"])["recordings"]
+
+
+def test_analyze_signal_on_a_numpy_array():
+    # 4 s of a 2-tooth cut at 6000 rpm: the tooth comb (200 Hz) alone is
+    # stable; a strong 731 Hz tone that no harmonic explains is chatter.
+    rate = 8000.0
+    t = np.arange(int(4 * rate)) / rate
+    forced = sum(np.cos(2 * np.pi * 200.0 * k * t) / k for k in range(1, 6))
+    noise = 0.01 * np.random.default_rng(1).standard_normal(t.size)
+    stable = robomill.analyze_signal(forced + noise, rate, 6000.0, teeth=2)
+    assert stable["verdict"] == "stable", stable["reason"]
+    chatter = robomill.analyze_signal(forced + noise + 3.0 * np.sin(2 * np.pi * 731.0 * t), rate,
+                                      6000.0, teeth=2)
+    assert chatter["verdict"] == "chatter", chatter["reason"]
+    assert chatter["chatter_freq_hz"] == pytest.approx(731.0, rel=0.005)
+    assert chatter["psd"].shape == chatter["freq_hz"].shape
+    assert chatter["spectrogram_psd"].shape == (chatter["spectrogram_t_s"].size,
+                                               chatter["spectrogram_freq_hz"].size)
+    assert chatter["recommended_spindle_rpm"], "no advice"
+    with pytest.raises(robomill.InputError):
+        robomill.analyze_signal(np.zeros((2, 2)), rate, 6000.0)

@@ -24,6 +24,7 @@
 
 #include "job_parser_atlas.hpp"
 #include "job_parser_deflection.hpp"
+#include "job_parser_monitoring.hpp"
 #include "job_parser_planning.hpp"
 #include "job_parser_simulation.hpp"
 #include "job_parser_surface.hpp"
@@ -1988,6 +1989,7 @@ Job read_job(const YAML::Node& root_node, const std::filesystem::path& source,
   detail::read_atlas(root, job);       // issue 11 (job_parser_atlas.cpp)
   detail::read_surface(root, job);     // 001 §2.4 (job_parser_surface.cpp)
   detail::read_toolpath(root, job);    // program and stock (job_parser_toolpath.cpp)
+  detail::read_monitoring(root, job);  // recordings (job_parser_monitoring.cpp)
   job.output = read_output(root);
   root.finish();
   return job;

@@ -106,6 +106,10 @@ Content build_content(const Outputs& outputs);
 /// `robomill toolpath`: the path in 3-D, engagement and loads over time, the
 /// final stock, the worst moves and the warnings (figures_toolpath.cpp).
 void toolpath_figures(const Outputs& outputs, Content& content);
+/// `robomill listen`: the spectrogram with the onset, the spectrum with each
+/// line's cause, the recorded cuts on the lobes, the verdicts and the advice
+/// (figures_listen.cpp).
+void listen_figures(const Outputs& outputs, Content& content);
 /// Every numeric column of a table over its first column: the fallback for
 /// commands without dedicated figures.
 void generic_figures(const std::string& file, const Table& table, Content& content);

@@ -1195,6 +1195,8 @@ Content build_content(const Outputs& o) {
     surface(o, c);
   else if (cmd == "toolpath")
     toolpath_figures(o, c);
+  else if (cmd == "listen")
+    listen_figures(o, c);
   else {
     for (const auto& [name, text] : o.files)
       if (name.ends_with(".csv"))
@@ -1209,11 +1211,13 @@ Content build_content(const Outputs& o) {
 namespace robomill::report {
 
 bool has_dedicated_figures(std::string_view command) {
+  // clang-format off
   static const std::set<std::string, std::less<>> commands = {
       "forces",   "stability",  "fit-modes",        "frf",
       "robot",    "atlas",      "optimize",         "advise",
       "simulate", "deflection", "identify-cutting", "identify-stiffness",
-      "surface",  "toolpath"};
+      "surface",  "toolpath",   "listen"};
+  // clang-format on
   return commands.count(command) > 0;
 }
 

@@ -211,6 +211,15 @@ std::string key_inputs_json(const io::Job& job) {
                          num(s.max_m.y() * 1e3), num(s.max_m.z() * 1e3)));
     rows.add("stock", "resolution", with_unit(s.resolution_m * 1e3, "mm"));
   }
+  for (const io::RecordingSpec& r : job.recordings) {
+    std::string what =
+        fmt::format("{} ({}", r.file.filename().string(), monitoring::signal_kind_name(r.signal));
+    if (r.spindle_rad_s)
+      what += fmt::format(", {} rpm", num(*r.spindle_rad_s * 60.0 / (2.0 * std::numbers::pi)));
+    if (!r.note.empty())
+      what += ", " + r.note;
+    rows.add(job.recordings_listed ? "recordings" : "recording", "file", what + ")");
+  }
   if (!job.experiments.empty()) {
     int chatter = 0;
     for (const io::Experiment& e : job.experiments)

@@ -120,6 +120,41 @@ cutting: {law: linear, Ktc: 800 N/mm^2}
 toolpath: {file: programs/pocket.nc, max_size: 8}
 stock: {box: {min: [0, 0, 0], max: [60, 40, 20]}, height_map: earlier/stock.csv}
 )",
+    // robomill listen: one recording with every key, and the detector's settings.
+    R"(name: kitchen sink 4
+recording:
+  file: cut.csv
+  format: csv
+  channel: 1
+  column: ax
+  sample_rate: 10 kHz
+  signal: acceleration
+  scale: 9.80665
+  start: 1 s
+  duration: 5 s
+  ignore: [400 Hz]
+  ignore_width: 2 Hz
+  spindle: 3000 rpm
+  depth: 1 mm
+  note: every key
+listen:
+  teeth: 1
+  spindle_search: 5 %
+  threshold: 0.6
+  mains: off
+  steady_lines: false
+  band: [10 Hz, 4 kHz]
+  segment: 0.5 s
+  spindle_range: [1000 rpm, 5000 rpm]
+)",
+    // Several recordings, each with every key.
+    R"(name: kitchen sink 5
+listen: {teeth: 2}
+recordings:
+  - {file: a.mat, format: mat, channel: 1, variable: tsDS, column: "2", sample_rate: 10 kHz,
+     signal: displacement, scale: 1e-3, start: 0 s, duration: 2 s, ignore: [50 Hz],
+     ignore_width: 1 Hz, spindle: 425 rpm, depth: 0.5 mm, note: first}
+)",
 };
 
 TEST(JobSchema, ExamplesAndKitchenSinksReadEveryField) {

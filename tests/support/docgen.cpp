@@ -107,6 +107,10 @@ struct CrossCheck {
 const std::map<std::string, CrossCheck> kCrossChecks = {
     {"sim",
      {"Time-domain simulation against the frequency-domain boundary (issue 20)", "stability"}},
+    {"listen",
+     {"Chatter heard in simulated recordings: listen against simulate (issue 22)", "simulate"}},
+    {"listen-recordings",
+     {"Chatter heard in real recordings: listen against the dataset's labels (issue 22)", "label"}},
 };
 
 std::string row_of(const nlohmann::json& r) {

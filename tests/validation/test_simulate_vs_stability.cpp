@@ -58,12 +58,15 @@
 #include "robomill/simulation/response_metrics.hpp"
 #include "robomill/simulation/simulator.hpp"
 #include "robomill/stability/lobes.hpp"
+#include "simulated_cuts.hpp"
 #include "support/validation_record.hpp"
 
 namespace {
 
 using namespace robomill;
+using test::robot_two_modes;
 using test::sig4;
+using test::simulate_steps;
 constexpr double kPi = std::numbers::pi;
 constexpr double kRatios[] = {0.8, 1.25};
 constexpr double kToothPeriods = 600.0;  // run length (see above)
@@ -71,41 +74,12 @@ constexpr double kSteadyShare = 0.2;     // simulate's default steady window
 constexpr double kMinAgreement = 0.95;
 const char* kSection = "sim";  // the validation report's simulate-vs-stability section
 
-/// 003 Tab. 1's robot modes X1 and Y1 under a 20 mm two-flute end mill in
-/// half immersion down milling (000 Eq 39 aluminium).
-stability::RegenerativeModel robot_two_modes() {
-  tool::ToolSpec spec;
-  spec.diameter_m = 20e-3;
-  spec.teeth = 2;
-  spec.overhang_m = 60e-3;
-  const cutting::LinearLaw law{855e6, 270.93e6, 0.0, 15.64e3, 14.167e3, 0.0};
-  const cutting::MillingProcess process{1000.0, 0.1e-3, 1e-3, 10e-3,
-                                        cutting::MillingDirection::down};
-  const dynamics::ModalModel modes({dynamics::directional_mode(0, 17.8, 0.0176, 2.31e6),
-                                    dynamics::directional_mode(1, 19.88, 0.0081, 3.65e6)});
-  return stability::RegenerativeModel(tool::Tool(spec), law, process, modes);
-}
-
 struct Case {
   const char* name;
   stability::RegenerativeModel model;
   std::vector<double> rpm;
   std::string assumptions;
 };
-
-/// `simulate`'s automatic step: 40 steps per tooth period, raised to 8 per
-/// period of the highest mode and 12 across the engaged arc
-/// (apps/robomill/command_simulate.cpp, check_settings).
-int simulate_steps(const stability::RegenerativeModel& model,
-                   const cutting::MillingProcess& process) {
-  const double tooth_s = 2.0 * kPi / (process.spindle_rad_s * model.tool().teeth());
-  int steps = 40;
-  steps = std::max(
-      steps, static_cast<int>(std::ceil(8.0 * model.modes().highest_frequency_hz() * tooth_s)));
-  steps = std::max(steps,
-                   simulation::engaged_arc_resolution(model.tool(), process, {}).steps_per_tooth);
-  return steps;
-}
 
 simulation::ChatterVerdict simulate_verdict(const stability::RegenerativeModel& model,
                                             double spindle_rad_s, double depth_m, int step_factor,

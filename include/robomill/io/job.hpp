@@ -16,6 +16,7 @@
 #include "robomill/dynamics/axial_shape.hpp"
 #include "robomill/dynamics/frf.hpp"
 #include "robomill/dynamics/modal_model.hpp"
+#include "robomill/io/recording.hpp"
 #include "robomill/planning/cutting_advice.hpp"
 #include "robomill/planning/pose_optimization.hpp"
 #include "robomill/robot/posture_interpolation.hpp"
@@ -273,11 +274,11 @@ struct ToolpathSettings {
   /// `tools: {T1: {tool fields}, ...}`: cutters by tool number; empty: the
   /// job's `tool` serves every tool number.
   std::map<int, tool::ToolSpec> tools;
-  double spacing_m = 0.0;             ///< `spacing`; 0: a few feeds per tooth
-  double rapid_speed_m_s = 0.5;       ///< `rapid_speed` (30 m/min)
-  double spindle_rad_s = 0.0;         ///< `spindle`: when the program gives none
-  int force_steps_per_tooth = 32;     ///< `steps_per_tooth`
-  std::size_t max_bytes = 64u << 20;  ///< `max_size`
+  double spacing_m = 0.0;                         ///< `spacing`; 0: a few feeds per tooth
+  double rapid_speed_m_s = 0.5;                   ///< `rapid_speed` (30 m/min)
+  double spindle_rad_s = 0.0;                     ///< `spindle`: when the program gives none
+  int force_steps_per_tooth = 32;                 ///< `steps_per_tooth`
+  std::size_t max_bytes = 64u << 20;              ///< `max_size`
   std::map<int, Eigen::Vector3d> work_offsets_m;  ///< G-code `work_offsets: {G54: [x, y, z]}`
   std::filesystem::path dat_file;                 ///< KRL `dat` (default: the .src's .dat)
   std::map<int, Eigen::Isometry3d> bases;         ///< KRL `bases: {1: [x, y, z, a, b, c]}`
@@ -288,9 +289,25 @@ struct ToolpathSettings {
 /// `stock:` — the raw part the program cuts (workpiece frame).
 struct StockSettings {
   Eigen::Vector3d min_m = Eigen::Vector3d::Zero(), max_m = Eigen::Vector3d::Zero();
-  double resolution_m = 0.0;          ///< `resolution` (default: tool diameter / 20)
-  std::filesystem::path height_map;   ///< `height_map`: stock.csv of an earlier run
+  double resolution_m = 0.0;         ///< `resolution` (default: tool diameter / 20)
+  std::filesystem::path height_map;  ///< `height_map`: stock.csv of an earlier run
   int line = 0, resolution_line = 0;
+};
+
+/// `listen:` — how `robomill listen` judges recordings (docs/monitoring.md).
+/// The recordings themselves are `recording:` / `recordings:`.
+struct ListenSettings {
+  std::optional<int> teeth;               ///< `teeth`: else tool.teeth (1 for a single insert)
+  double spindle_search_fraction = 0.1;   ///< `spindle_search` (%)
+  double chatter_energy_threshold = 0.5;  ///< `threshold`: chatter share that decides
+  bool detect_mains = true;               ///< `mains: auto|off`
+  bool detect_steady_lines = true;        ///< `steady_lines: true|false`
+  double band_low_hz = 0.0, band_high_hz = 0.0;  ///< `band: [low, high]` (0: automatic)
+  double segment_s = 0.0;                        ///< `segment` (0: automatic)
+  /// `spindle_range: [min, max]` for the advice; else advise.speeds, else
+  /// stability.speeds, else half to one and a half times the spindle speed.
+  std::optional<std::pair<double, double>> spindle_range_rad_s;
+  int line = 0;
 };
 
 struct OutputSettings {
@@ -336,6 +353,12 @@ struct Job {
   std::optional<SurfaceSettings> surface;        ///< `surface:` (docs/surface.md)
   std::optional<ToolpathSettings> toolpath;      ///< `toolpath:` (docs/toolpath.md)
   std::optional<StockSettings> stock;            ///< `stock:` (docs/toolpath.md)
+  /// `recording:` (one cut) or `recordings:` (several, each with its own
+  /// spindle and depth) for `robomill listen` (docs/monitoring.md): at most
+  /// one of the two; `recording` is held as the list's only entry.
+  std::vector<RecordingSpec> recordings;
+  bool recordings_listed = false;        ///< written as `recordings:`
+  std::optional<ListenSettings> listen;  ///< `listen:`
   OutputSettings output;
 
   /// Resolves a path written in the job relative to the job file's folder.
