@@ -12,6 +12,15 @@
 
 namespace robomill::test {
 
+/// The depths each check simulates, as fractions of the predicted limit:
+/// below it the cut must settle, above it chatter must grow.
+inline constexpr double kLimitRatios[] = {0.8, 1.25};
+/// The run length in tooth periods: long enough that growth at 1.25x and
+/// decay at 0.8x are both visible (test_simulate_vs_stability.cpp).
+inline constexpr double kSimulatedToothPeriods = 600.0;
+/// simulate's default steady window: the last fifth of the run.
+inline constexpr double kSteadyWindowShare = 0.2;
+
 /// 003 Tab. 1's robot modes X1 and Y1 under a 20 mm two-flute end mill in
 /// half immersion down milling (000 Eq 39 aluminium).
 inline stability::RegenerativeModel robot_two_modes() {

@@ -68,11 +68,9 @@ using test::robot_two_modes;
 using test::sig4;
 using test::simulate_steps;
 constexpr double kPi = std::numbers::pi;
-constexpr double kRatios[] = {0.8, 1.25};
-// simulate's run as in test_simulate_vs_stability.cpp (the reasoning for 600
-// tooth periods is there: growth at 1.25x and decay at 0.8x both visible).
-constexpr double kToothPeriods = 600.0;
-constexpr double kSteadyShare = 0.2;
+const auto& kRatios = test::kLimitRatios;
+constexpr double kToothPeriods = test::kSimulatedToothPeriods;  // simulate's run, as there
+constexpr double kSteadyShare = test::kSteadyWindowShare;
 constexpr double kNoiseShare = 0.1;  // SNR 20 dB: noise RMS / signal RMS
 constexpr double kHumShare = 0.3;    // hum RMS / signal RMS
 constexpr double kHumHz = 60.0;

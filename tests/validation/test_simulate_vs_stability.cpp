@@ -68,9 +68,9 @@ using test::robot_two_modes;
 using test::sig4;
 using test::simulate_steps;
 constexpr double kPi = std::numbers::pi;
-constexpr double kRatios[] = {0.8, 1.25};
-constexpr double kToothPeriods = 600.0;  // run length (see above)
-constexpr double kSteadyShare = 0.2;     // simulate's default steady window
+const auto& kRatios = test::kLimitRatios;
+constexpr double kToothPeriods = test::kSimulatedToothPeriods;  // run length (see above)
+constexpr double kSteadyShare = test::kSteadyWindowShare;
 constexpr double kMinAgreement = 0.95;
 const char* kSection = "sim";  // the validation report's simulate-vs-stability section
 
