@@ -1,0 +1,43 @@
+#pragma once
+// `robomill advise` of a job (issue 9 item 4): the spindle speed and axial
+// depth that maximize the material removal rate inside the stability diagram
+// (with the job's safety factor) and under the job's tool-offset limit
+// (planning/cutting_advice.hpp), at the job's structure or at every point of
+// its path (the robot's tool-tip modes there, 004 Eq 1-2 and Eq 7); and, with
+// advise.redundancy, the rotation of a 6-joint robot about the tool axis
+// that maximizes the minimum stable depth along the path
+// (planning/redundancy_study.hpp). SI units.
+
+#include <optional>
+#include <vector>
+
+#include "robomill/dynamics/modal_model.hpp"
+#include "robomill/io/job.hpp"
+#include "robomill/planning/cutting_advice.hpp"
+#include "robomill/planning/redundancy_study.hpp"
+#include "robomill/robot/robot_model.hpp"
+
+namespace robomill::analysis {
+
+struct CuttingParameterAdvice {
+  /// The structures the advice holds for, tool frame: the job's (dynamics:)
+  /// with advise.along: posture, else one per path point (the robot turned
+  /// by advise.redundancy_angle about the tool axis).
+  std::vector<dynamics::ModalModel> stations;
+  planning::CuttingAdvice advice;
+  /// The robot, when the advice needs it (along the path, redundancy).
+  std::optional<robot::RobotModel> robot;
+  /// advise.redundancy: per path point (or the robot's posture without a
+  /// placed path) and candidate angle, the minimum stable depth.
+  std::optional<planning::RedundancyStudy> redundancy;
+  double elapsed_s = 0.0;  ///< the whole advice (structures, scan, redundancy)
+};
+
+/// The advice on up to `threads` threads (0: all cores). Needs the advise:
+/// section (and what it names: tool, cutting, process, dynamics or a robot
+/// with a placed path). Throws InputError naming the field: a path point the
+/// robot does not reach within its joint limits, a discretization too coarse
+/// for the structure's highest mode, settings the planner rejects.
+CuttingParameterAdvice cutting_parameter_advice(const io::Job& job, int threads = 0);
+
+}  // namespace robomill::analysis
