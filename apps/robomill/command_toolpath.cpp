@@ -15,8 +15,11 @@
 #include "robomill/io/csv.hpp"
 #include "robomill/io/output_bundle.hpp"
 #include "robomill/io/program_readers.hpp"
+#include "robomill/io/robot_path.hpp"
 #include "robomill/io/summary.hpp"
+#include "robomill/robot/kinematics.hpp"
 #include "robomill/toolpath/program_analysis.hpp"
+#include "robomill/toolpath/robot_along_path.hpp"
 
 namespace robomill::app {
 namespace {
@@ -38,72 +41,201 @@ const char* motion_name(toolpath::MotionKind kind) {
   }
 }
 
-io::CsvTable sample_table() {
-  return io::CsvTable({"line",
-                       "t_s",
-                       "x_mm",
-                       "y_mm",
-                       "z_mm",
-                       "axis_i",
-                       "axis_j",
-                       "axis_k",
-                       "tool",
-                       "motion",
-                       "feed_mm_min",
-                       "spindle_rpm",
-                       "feed_per_tooth_mm",
-                       "ap_mm",
-                       "ae_mm",
-                       "engagement_deg",
-                       "entry_deg",
-                       "exit_deg",
-                       "arcs",
-                       "section_mm2",
-                       "chip_area_mm2",
-                       "fx_N",
-                       "fy_N",
-                       "fz_N",
-                       "force_mean_N",
-                       "force_peak_N",
-                       "torque_Nm",
-                       "torque_peak_Nm",
-                       "power_W",
-                       "analysed",
-                       "plunge"});
+std::vector<std::string> sample_columns() {
+  return {"line",
+          "t_s",
+          "x_mm",
+          "y_mm",
+          "z_mm",
+          "axis_i",
+          "axis_j",
+          "axis_k",
+          "tool",
+          "motion",
+          "feed_mm_min",
+          "spindle_rpm",
+          "feed_per_tooth_mm",
+          "ap_mm",
+          "ae_mm",
+          "engagement_deg",
+          "entry_deg",
+          "exit_deg",
+          "arcs",
+          "section_mm2",
+          "chip_area_mm2",
+          "fx_N",
+          "fy_N",
+          "fz_N",
+          "force_mean_N",
+          "force_peak_N",
+          "torque_Nm",
+          "torque_peak_Nm",
+          "power_W",
+          "analysed",
+          "plunge"};
 }
 
-void add_sample(io::CsvTable& table, const toolpath::PathSample& s) {
-  table.add_cells({static_cast<double>(s.line),
-                   s.t_s,
-                   s.tip_m.x() * 1e3,
-                   s.tip_m.y() * 1e3,
-                   s.tip_m.z() * 1e3,
-                   s.axis.x(),
-                   s.axis.y(),
-                   s.axis.z(),
-                   static_cast<double>(s.tool),
-                   std::string(motion_name(s.kind)),
-                   s.feed_m_s * 6e4,
-                   s.spindle_rad_s * kRpmPerRadS,
-                   s.feed_per_tooth_m * 1e3,
-                   s.axial_depth_m * 1e3,
-                   s.radial_width_m * 1e3,
-                   s.engaged_rad * kDegPerRad,
-                   s.entry_rad * kDegPerRad,
-                   s.exit_rad * kDegPerRad,
-                   static_cast<double>(s.arcs),
-                   s.section_m2 * 1e6,
-                   s.chip_area_m2 * 1e6,
-                   s.force_mean_n.x(),
-                   s.force_mean_n.y(),
-                   s.force_mean_n.z(),
-                   s.force_mean_magnitude_n,
-                   s.force_peak_n,
-                   s.torque_mean_nm,
-                   s.torque_peak_nm,
-                   s.power_w,
-                   s.analysed ? 1.0 : 0.0,
-                   s.plunge ? 1.0 : 0.0});
+// The robot's columns (robot_along_path.hpp), after the program's.
+io::CsvTable sample_table(int dof = 0) {
+  std::vector<std::string> columns = sample_columns();
+  if (dof > 0) {
+    columns.emplace_back("psi_deg");
+    for (int j = 1; j <= dof; ++j)
+      columns.push_back(fmt::format("q{}_deg", j));
+    for (const char* c :
+         {"reachable", "joint_margin_deg", "singularity", "ap_limit_mm", "margin", "chatter",
+          "at_risk", "chatter_freq_hz", "dev_x_um", "dev_y_um", "dev_z_um", "deflection_um",
+          "form_error_um", "floor_error_um", "dynamics_recomputed"})
+      columns.emplace_back(c);
+  }
+  return io::CsvTable(columns);
+}
+
+void add_sample(io::CsvTable& table, const toolpath::PathSample& s,
+                const toolpath::RobotSample* robot = nullptr) {
+  std::vector<io::CsvTable::Cell> cells = {static_cast<double>(s.line),
+                                           s.t_s,
+                                           s.tip_m.x() * 1e3,
+                                           s.tip_m.y() * 1e3,
+                                           s.tip_m.z() * 1e3,
+                                           s.axis.x(),
+                                           s.axis.y(),
+                                           s.axis.z(),
+                                           static_cast<double>(s.tool),
+                                           std::string(motion_name(s.kind)),
+                                           s.feed_m_s * 6e4,
+                                           s.spindle_rad_s * kRpmPerRadS,
+                                           s.feed_per_tooth_m * 1e3,
+                                           s.axial_depth_m * 1e3,
+                                           s.radial_width_m * 1e3,
+                                           s.engaged_rad * kDegPerRad,
+                                           s.entry_rad * kDegPerRad,
+                                           s.exit_rad * kDegPerRad,
+                                           static_cast<double>(s.arcs),
+                                           s.section_m2 * 1e6,
+                                           s.chip_area_m2 * 1e6,
+                                           s.force_mean_n.x(),
+                                           s.force_mean_n.y(),
+                                           s.force_mean_n.z(),
+                                           s.force_mean_magnitude_n,
+                                           s.force_peak_n,
+                                           s.torque_mean_nm,
+                                           s.torque_peak_nm,
+                                           s.power_w,
+                                           s.analysed ? 1.0 : 0.0,
+                                           s.plunge ? 1.0 : 0.0};
+  if (robot) {
+    const toolpath::RobotSample& r = *robot;
+    const std::string empty;
+    cells.emplace_back(r.redundancy_rad * kDegPerRad);
+    for (Eigen::Index j = 0; j < r.q_rad.size(); ++j)
+      cells.emplace_back(r.q_rad[j] * kDegPerRad);
+    cells.emplace_back(r.reachable ? 1.0 : 0.0);
+    cells.emplace_back(r.joint_margin_rad * kDegPerRad);
+    cells.emplace_back(r.singularity);
+    const bool limit = r.stability;
+    cells.emplace_back(limit ? io::CsvTable::Cell(r.depth_limit_m * 1e3) : empty);
+    cells.emplace_back(limit ? io::CsvTable::Cell(r.margin) : empty);
+    cells.emplace_back(limit ? io::CsvTable::Cell(r.chatter ? 1.0 : 0.0) : empty);
+    cells.emplace_back(limit ? io::CsvTable::Cell(r.at_risk ? 1.0 : 0.0) : empty);
+    cells.emplace_back(
+        limit && r.chatter_frequency_hz > 0.0 ? io::CsvTable::Cell(r.chatter_frequency_hz) : empty);
+    const bool bent = r.reachable && s.analysed && s.kind != toolpath::MotionKind::rapid;
+    for (int a = 0; a < 3; ++a)
+      cells.emplace_back(bent ? io::CsvTable::Cell(r.deflection_m[a] * 1e6) : empty);
+    cells.emplace_back(bent ? io::CsvTable::Cell(r.deflection_m.norm() * 1e6) : empty);
+    cells.emplace_back(bent && r.wall ? io::CsvTable::Cell(r.form_error_m * 1e6) : empty);
+    cells.emplace_back(bent ? io::CsvTable::Cell(r.floor_error_m * 1e6) : empty);
+    cells.emplace_back(limit ? io::CsvTable::Cell(r.exact ? 1.0 : 0.0) : empty);
+  }
+  table.add_cells(cells);
+}
+
+// summary.json's robot_along_path: the worst lines with their advice, the
+// robot drawn at the worst posture.
+nlohmann::json robot_summary(const io::RobotPathSetup& setup, const toolpath::RobotAlongPath& along,
+                             const toolpath::RobotPathSummary& r) {
+  nlohmann::json worst = nlohmann::json::array();
+  for (const toolpath::WorstLine& w : r.worst_lines) {
+    std::string advice;
+    if (w.margin < 1.0) {
+      advice = fmt::format("chatter: lower ap to {:.2f} mm", w.depth_limit_m * 1e3 * 0.9);
+      if (w.better_depth_limit_m > w.axial_depth_m)
+        advice += fmt::format(" or move the spindle to {:.0f} rpm (stable to {:.2f} mm)",
+                              w.better_spindle_rad_s * kRpmPerRadS, w.better_depth_limit_m * 1e3);
+    } else if (w.margin < setup.settings.risk_margin) {
+      advice = fmt::format("at risk: {:.0f} % below the limit", (1.0 - 1.0 / w.margin) * 100.0);
+      if (w.better_depth_limit_m > w.depth_limit_m * 1.05)
+        advice += fmt::format("; {:.0f} rpm is stable to {:.2f} mm",
+                              w.better_spindle_rad_s * kRpmPerRadS, w.better_depth_limit_m * 1e3);
+    } else {
+      advice = "stable";
+    }
+    worst.push_back({{"line", w.line},
+                     {"t_s", w.t_s},
+                     {"margin", w.margin},
+                     {"ap_mm", w.axial_depth_m * 1e3},
+                     {"ap_limit_mm", w.depth_limit_m * 1e3},
+                     {"spindle_rpm", w.spindle_rad_s * kRpmPerRadS},
+                     {"chatter_freq_hz", w.chatter_frequency_hz},
+                     {"form_error_um", w.form_error_m * 1e6},
+                     {"better_spindle_rpm", w.better_spindle_rad_s * kRpmPerRadS},
+                     {"better_ap_limit_mm", w.better_depth_limit_m * 1e3},
+                     {"advice", advice}});
+  }
+  const double fraction = r.stability_samples > 0 ? static_cast<double>(r.at_risk) /
+                                                        static_cast<double>(r.stability_samples)
+                                                  : 0.0;
+  nlohmann::json out = {
+      {"robot", along.model().name()},
+      {"dof", along.model().dof()},
+      {"structure", setup.structure_source},
+      {"redundancy_deg", setup.settings.redundancy_rad * kDegPerRad},
+      {"samples", r.samples},
+      {"analysed_samples", r.analysed},
+      {"stability_samples", r.stability_samples},
+      {"unreachable_samples", r.unreachable},
+      {"unreachable_lines", r.unreachable_lines},
+      {"joint_limit_samples", r.joint_limit},
+      {"first_joint_limit_line", r.first_joint_limit_line},
+      {"min_singularity", r.min_singularity},
+      {"min_singularity_line", r.min_singularity_line},
+      {"fraction_at_risk", fraction},
+      {"risk_margin", setup.settings.risk_margin},
+      {"chatter_samples", r.chatter},
+      {"at_risk_samples", r.at_risk},
+      {"min_margin", r.min_margin},
+      {"min_margin_line", r.min_margin_line},
+      {"max_form_error_um", r.max_form_error_m * 1e6},
+      {"max_form_error_line", r.max_form_error_line},
+      {"max_floor_error_um", r.max_floor_error_m * 1e6},
+      {"max_deflection_um", r.max_deflection_m * 1e6},
+      {"dynamics_recomputations", r.exact_limits},
+      {"shortcut_tolerance", setup.settings.tolerance},
+      {"shortcut_checked_samples", r.checked},
+      {"shortcut_max_error", r.shortcut_max_error},
+      {"worst_lines", worst},
+      {"notes", setup.notes},
+  };
+  if (!r.worst_lines.empty()) {
+    const toolpath::WorstLine& w = r.worst_lines.front();
+    nlohmann::json origins = nlohmann::json::array();
+    for (const Eigen::Vector3d& p : along.joint_origins(w.q_rad))
+      origins.push_back({p.x() * 1e3, p.y() * 1e3, p.z() * 1e3});
+    std::vector<double> q_deg;
+    for (Eigen::Index j = 0; j < w.q_rad.size(); ++j)
+      q_deg.push_back(w.q_rad[j] * kDegPerRad);
+    const Eigen::Isometry3d tool = robot::tool_pose(along.model(), w.q_rad);
+    const Eigen::Vector3d axis = tool.linear().col(2);
+    out["worst_posture"] = {{"line", w.line},
+                            {"q_deg", q_deg},
+                            {"joint_origins_mm", origins},
+                            {"tool_tip_mm",
+                             {tool.translation().x() * 1e3, tool.translation().y() * 1e3,
+                              tool.translation().z() * 1e3}},
+                            {"tool_axis", {axis.x(), axis.y(), axis.z()}}};
+  }
+  return out;
 }
 
 io::CsvTable move_table(const toolpath::ProgramAnalysis& analysis) {
@@ -249,8 +381,17 @@ CommandResult compute_toolpath(const io::Job& job, int threads,
   const std::size_t preview_stride = static_cast<std::size_t>(
       std::max(1.0, std::ceil(expected_samples / static_cast<double>(kPreviewRows))));
 
-  io::CsvTable samples = sample_table();
-  io::CsvTable preview = sample_table();
+  // The robot along the program, when the job puts the part in a robot cell.
+  std::optional<io::RobotPathSetup> robot_setup = io::robot_path_setup(job, threads);
+  std::optional<toolpath::RobotAlongPath> robot;
+  if (robot_setup)
+    robot.emplace(*robot_setup->model, robot_setup->structure, tooling, *job.cutting,
+                  robot_setup->stability, robot_setup->settings);
+  const int dof = robot ? robot->model().dof() : 0;
+  std::vector<toolpath::RobotSample> robot_block;
+
+  io::CsvTable samples = sample_table(dof);
+  io::CsvTable preview = sample_table(dof);
   std::ofstream stream;
   if (!samples_file.empty()) {
     stream.open(samples_file, std::ios::binary | std::ios::trunc);
@@ -262,12 +403,18 @@ CommandResult compute_toolpath(const io::Job& job, int threads,
   std::size_t max_engagement_line = 0;
   double max_engagement_rad = 0.0;
   const toolpath::SampleSink sink = [&](std::span<const toolpath::PathSample> block) {
-    io::CsvTable chunk = sample_table();
+    io::CsvTable chunk = sample_table(dof);
     io::CsvTable& target = samples_file.empty() ? samples : chunk;
-    for (const toolpath::PathSample& sample : block) {
-      add_sample(target, sample);
+    if (robot) {
+      robot_block.resize(block.size());
+      robot->evaluate(block, robot_block);
+    }
+    for (std::size_t i = 0; i < block.size(); ++i) {
+      const toolpath::PathSample& sample = block[i];
+      const toolpath::RobotSample* r = robot ? &robot_block[i] : nullptr;
+      add_sample(target, sample, r);
       if (seen++ % preview_stride == 0)
-        add_sample(preview, sample);
+        add_sample(preview, sample, r);
       if (sample.engaged_rad > max_engagement_rad && sample.kind != toolpath::MotionKind::rapid) {
         max_engagement_rad = sample.engaged_rad;
         max_engagement_line = static_cast<std::size_t>(sample.line);
@@ -349,6 +496,36 @@ CommandResult compute_toolpath(const io::Job& job, int threads,
   };
   if (!job.name.empty())
     summary["name"] = job.name;
+  std::string robot_text;
+  if (robot) {
+    const toolpath::RobotPathSummary r = robot->finish();
+    if (r.samples > 0 && r.unreachable == r.samples) {
+      const Eigen::Vector3d table = job.workpiece->cell.table_origin_m * 1e3;
+      throw InputError("workpiece.pose", job.robot_path ? job.robot_path->line : 0,
+                       fmt::format("the robot reaches no sample of the program (from line {}) "
+                                   "with the part on the table at [{:.0f}, {:.0f}, {:.0f}] mm: "
+                                   "move the table or the pose within the robot's reach",
+                                   r.first_unreachable_line, table.x(), table.y(), table.z()));
+    }
+    if (r.unreachable > 0) {
+      std::string lines;
+      for (std::size_t k = 0; k < std::min<std::size_t>(r.unreachable_lines.size(), 10); ++k)
+        lines += (k ? ", " : "") + std::to_string(r.unreachable_lines[k]);
+      robot_text += fmt::format(
+          "  warning: the robot cannot reach {} samples (lines {}{}); their "
+          "columns are the inverse kinematics' best attempt\n",
+          r.unreachable, lines, r.unreachable_lines.size() > 10 ? ", ..." : "");
+    }
+    summary["robot_along_path"] = robot_summary(*robot_setup, *robot, r);
+    robot_text += fmt::format(
+        "  robot {}: {} samples unreachable, {} at a joint limit; chatter at {} of {} samples in "
+        "the cut, min margin {:.2f} (line {}); largest form error {:.1f} um (line {})\n"
+        "  stable depths: {} computed, the rest interpolated (checked {}, largest error {:.2g} "
+        "%)\n",
+        robot->model().name(), r.unreachable, r.joint_limit, r.chatter, r.stability_samples,
+        r.min_margin, r.min_margin_line, r.max_form_error_m * 1e6, r.max_form_error_line,
+        r.exact_limits, r.checked, r.shortcut_max_error * 100.0);
+  }
 
   CommandResult result;
   if (samples_file.empty())
@@ -373,6 +550,7 @@ CommandResult compute_toolpath(const io::Job& job, int threads,
       analysis.volume_removed_m3 * 1e9, analysis.max_force_n, analysis.max_force_line,
       analysis.max_torque_nm, analysis.max_torque_line, analysis.max_power_w,
       analysis.max_power_line, warnings_text);
+  result.message += robot_text;
   return result;
 }
 

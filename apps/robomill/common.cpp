@@ -137,6 +137,7 @@ std::vector<std::string> job_sections(const io::Job& job) {
   add(job.atlas.has_value(), "atlas");
   add(job.toolpath.has_value(), "toolpath");
   add(job.stock.has_value(), "stock");
+  add(job.robot_path.has_value(), "robot_path");
   add(!job.recordings.empty() && !job.recordings_listed, "recording");
   add(job.recordings_listed, "recordings");
   add(job.listen.has_value(), "listen");

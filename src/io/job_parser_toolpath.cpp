@@ -151,6 +151,28 @@ void read_stock(SectionReader& root, Job& job) {
   job.stock = std::move(stock);
 }
 
+// `robot_path:` — how the robot follows the program (robot_along_path.hpp).
+// The robot, the workpiece pose and the structure are the job's own sections;
+// the command checks that they are there.
+void read_robot_path(SectionReader& root, Job& job) {
+  auto section = root.section("robot_path");
+  if (!section)
+    return;
+  SectionReader& r = *section;
+  r.allow_schema("robot_path");
+  RobotPathJobSettings s;
+  s.line = r.line();
+  s.redundancy_rad = r.quantity_or("redundancy", angle_deg(), 0.0);
+  s.tolerance = r.quantity_or("tolerance", dimensionless(kPositive, Bound{0.5, true}), 0.02);
+  s.max_span = r.integer_or("max_span", 1, 100000, 64);
+  s.check_every = r.integer_or("check_every", 0, 1000000, 25);
+  s.risk_margin =
+      r.quantity_or("risk_margin", dimensionless(Bound{1.0, true}, Bound{10.0, true}), 1.0);
+  s.worst_lines = r.integer_or("worst_lines", 1, 1000, 10);
+  r.finish();
+  job.robot_path = s;
+}
+
 }  // namespace
 
 void read_toolpath(SectionReader& root, Job& job) {
@@ -227,6 +249,7 @@ void read_toolpath(SectionReader& root, Job& job) {
     job.toolpath = std::move(s);
   }
   read_stock(root, job);
+  read_robot_path(root, job);
 }
 
 }  // namespace robomill::io::detail

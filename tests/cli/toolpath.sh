@@ -65,4 +65,25 @@ expect_exit2 "format: gcode, apt or krl" toolpath "$G" --set "toolpath.file=pock
 # The job: a stock box inside out, KRL keys on G-code.
 expect_exit2 "stock.box.max" toolpath "$G" --set "stock.box.max=[60, 40, -5]"
 expect_exit2 "only for KRL" toolpath "$G" --set "toolpath.tool_direction=z"
+
+# The robot along the program (issue 19): the pocket on the KR 270.
+R="$SOURCE/examples/toolpath_robot_pocket.yaml"
+"$ROBOMILL" toolpath "$R" --out "$WORK/r" --quiet || fail "robot example exit code"
+header=$(head -1 "$WORK/r/samples.csv")
+for column in psi_deg q1_deg q6_deg reachable joint_margin_deg singularity ap_limit_mm margin \
+  chatter at_risk chatter_freq_hz dev_x_um dev_y_um dev_z_um deflection_um form_error_um \
+  floor_error_um dynamics_recomputed; do
+  case ",$header," in *",$column,"*) ;; *) fail "robot samples.csv lacks $column" ;; esac
+done
+for key in robot_along_path fraction_at_risk min_margin min_margin_line max_form_error_um \
+  worst_lines worst_posture joint_origins_mm shortcut_max_error dynamics_recomputations; do
+  grep -q "\"$key\"" "$WORK/r/summary.json" || fail "robot summary.json lacks $key"
+done
+grep -qi 'nan\|inf' "$WORK/r/samples.csv" "$WORK/r/summary.json" && fail "non-finite number written"
+unreachable=$(json_number "$WORK/r/summary.json" robot_along_path unreachable_samples)
+[ "$unreachable" = "0" ] || fail "the example's part is out of reach: $unreachable samples"
+# The part out of the robot's reach, a robot_path without a pose.
+expect_exit2 "reaches no sample" toolpath "$R" --set "workpiece.table=[9000, 0, 500]" \
+  --set "toolpath.spacing=2 mm"
+expect_exit2 "needs a robot" toolpath "$G" --set "robot_path.redundancy=10"
 finish

@@ -294,6 +294,19 @@ struct StockSettings {
   int line = 0, resolution_line = 0;
 };
 
+/// `robot_path:` — the robot along the program (`robomill toolpath` with a
+/// `robot:` and `workpiece.pose`; docs/toolpath.md): the redundancy angle and
+/// the shortcut's tolerance (toolpath/robot_along_path.hpp).
+struct RobotPathJobSettings {
+  double redundancy_rad = 0.0;  ///< `redundancy` (deg): ψ about the tool axis
+  double tolerance = 0.02;      ///< `tolerance`: interpolated stable depths within this
+  int max_span = 64;            ///< `max_span`: samples between two exact limits at most
+  int check_every = 25;         ///< `check_every`: interpolated samples also computed exactly
+  double risk_margin = 1.0;     ///< `risk_margin`: at risk when a_lim < risk_margin × ap
+  int worst_lines = 10;         ///< `worst_lines`
+  int line = 0;
+};
+
 /// `listen:` — how `robomill listen` judges recordings (docs/monitoring.md).
 /// The recordings themselves are `recording:` / `recordings:`.
 struct ListenSettings {
@@ -342,17 +355,18 @@ struct Job {
   } dynamics_source = DynamicsSource::table;
   std::optional<PostureLibrary> posture_library;  ///< `dynamics.postures`
   std::vector<Experiment> experiments;
-  std::optional<RobotSettings> robot;            ///< `robot:`
-  std::optional<WorkpieceSettings> workpiece;    ///< `workpiece:`
-  std::vector<planning::PathPoint> path;         ///< `path:` (workpiece frame)
-  std::optional<DeflectionSettings> deflection;  ///< `deflection:` (000 §2, §4)
-  std::optional<OptimizeSettings> optimize;      ///< `optimize:`
-  std::optional<AdviseSettings> advise;          ///< `advise:`
-  std::optional<SimulationSettings> simulation;  ///< `simulation:`
-  std::optional<atlas::AtlasSpec> atlas;         ///< `atlas:` (docs/atlas.md)
-  std::optional<SurfaceSettings> surface;        ///< `surface:` (docs/surface.md)
-  std::optional<ToolpathSettings> toolpath;      ///< `toolpath:` (docs/toolpath.md)
-  std::optional<StockSettings> stock;            ///< `stock:` (docs/toolpath.md)
+  std::optional<RobotSettings> robot;              ///< `robot:`
+  std::optional<WorkpieceSettings> workpiece;      ///< `workpiece:`
+  std::vector<planning::PathPoint> path;           ///< `path:` (workpiece frame)
+  std::optional<DeflectionSettings> deflection;    ///< `deflection:` (000 §2, §4)
+  std::optional<OptimizeSettings> optimize;        ///< `optimize:`
+  std::optional<AdviseSettings> advise;            ///< `advise:`
+  std::optional<SimulationSettings> simulation;    ///< `simulation:`
+  std::optional<atlas::AtlasSpec> atlas;           ///< `atlas:` (docs/atlas.md)
+  std::optional<SurfaceSettings> surface;          ///< `surface:` (docs/surface.md)
+  std::optional<ToolpathSettings> toolpath;        ///< `toolpath:` (docs/toolpath.md)
+  std::optional<StockSettings> stock;              ///< `stock:` (docs/toolpath.md)
+  std::optional<RobotPathJobSettings> robot_path;  ///< `robot_path:` (docs/toolpath.md)
   /// `recording:` (one cut) or `recordings:` (several, each with its own
   /// spindle and depth) for `robomill listen` (docs/monitoring.md): at most
   /// one of the two; `recording` is held as the list's only entry.

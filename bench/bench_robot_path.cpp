@@ -1,0 +1,82 @@
+// The robot along a whole program (issue 19's speed target): a raster of
+// side cuts and a slot — about 10 000 samples — on the KR 270 of
+// examples/toolpath_robot_pocket.yaml with posture-dependent dynamics (the
+// robot's own modes at every posture, 004 Eq 1-2), on two threads: per
+// sample the inverse kinematics, the structure, the zero-order stable depth
+// (the shortcut of robot_along_path.hpp) and the deflection. The target:
+// under 20 s on two cores. Reports samples per second, the solves the
+// shortcut needed and the program analysis alone for comparison.
+
+#include <benchmark/benchmark.h>
+#include <fmt/format.h>
+
+#include <string>
+
+#include "robomill/io/job.hpp"
+#include "robomill/io/program_readers.hpp"
+#include "robomill/io/robot_path.hpp"
+#include "robomill/toolpath/program_analysis.hpp"
+#include "robomill/toolpath/robot_along_path.hpp"
+
+namespace {
+
+using namespace robomill;
+
+// A slot along x at 2 mm depth, then side cuts 3 mm apart, alternating,
+// across a 100 × 60 mm block (workpiece frame, top at z = 20 mm).
+std::string raster_program() {
+  std::string text = "%\nO1001 (ROBOT BENCH)\nG90 G94 G17 G21\nT1 M6\nS9000 M3\nG0 X-6 Y5 Z25\n";
+  text += "G0 Z18.\nG1 X106. F1200.\n";
+  for (int p = 1; p < 17; ++p) {
+    text += fmt::format("G1 Y{:.3f}\n", 5.0 + 3.0 * p);
+    text += fmt::format("G1 X{}.\n", p % 2 == 0 ? 106 : -6);
+  }
+  text += "G0 Z40.\nM30\n%\n";
+  return text;
+}
+
+void BM_RobotAlongProgram(benchmark::State& state) {
+  const bool robot_on = state.range(0) != 0;
+  const io::Job job = io::load_job(std::filesystem::path(ROBOMILL_SOURCE_DIR) / "examples" /
+                                   "toolpath_robot_pocket.yaml");
+  const toolpath::Program program = io::read_gcode(raster_program(), {});
+  toolpath::Tooling tooling;
+  tooling.emplace(0, tool::Tool(job.toolpath->tools.at(1)));
+  toolpath::ProgramAnalysisSettings settings;
+  settings.threads = 2;
+  settings.sample_spacing_m = 0.2e-3;
+  std::size_t samples = 0, solves = 0;
+  for (auto _ : state) {
+    toolpath::DexelStock stock({Eigen::Vector3d::Zero(), Eigen::Vector3d(100e-3, 60e-3, 20e-3)},
+                               0.25e-3);
+    std::optional<io::RobotPathSetup> setup = io::robot_path_setup(job, 2);
+    toolpath::RobotAlongPath along(*setup->model, setup->structure, tooling, *job.cutting,
+                                   setup->stability, setup->settings);
+    std::vector<toolpath::RobotSample> block;
+    const toolpath::ProgramAnalysis analysis =
+        toolpath::analyse_program(program, tooling, *job.cutting, stock, settings,
+                                  [&](std::span<const toolpath::PathSample> samples_block) {
+                                    if (!robot_on)
+                                      return;
+                                    block.resize(samples_block.size());
+                                    along.evaluate(samples_block, block);
+                                  });
+    const toolpath::RobotPathSummary summary = along.finish();
+    samples = analysis.samples;
+    solves = summary.exact_limits;
+    benchmark::DoNotOptimize(summary.min_margin);
+  }
+  state.counters["samples"] = static_cast<double>(samples);
+  state.counters["samples_per_s"] = benchmark::Counter(
+      static_cast<double>(samples), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["exact_limits"] = static_cast<double>(solves);
+}
+BENCHMARK(BM_RobotAlongProgram)
+    ->ArgName("robot")
+    ->Arg(0)
+    ->Arg(1)
+    ->Unit(benchmark::kSecond)
+    ->Iterations(1)
+    ->UseRealTime();
+
+}  // namespace

@@ -1,0 +1,158 @@
+#include "robomill/io/robot_path.hpp"
+
+#include <fmt/format.h>
+
+#include "robomill/core/error.hpp"
+#include "robomill/io/structure.hpp"
+#include "robomill/planning/workpiece_placement.hpp"
+#include "robomill/stability/regenerative_model.hpp"
+
+namespace robomill::io {
+
+Eigen::Isometry3d workpiece_to_cell(const WorkpieceSettings& workpiece) {
+  const planning::WorkpiecePose pose = workpiece.pose.value_or(planning::WorkpiecePose{});
+  Eigen::Isometry3d transform = Eigen::Isometry3d::Identity();
+  transform.linear() = planning::fixture_rotation(workpiece.cell.tilt_axis, pose.theta_rad);
+  transform.translation() = workpiece.cell.table_origin_m +
+                            Eigen::Vector3d(pose.x_m, pose.y_m, workpiece.cell.workpiece_height_m);
+  return transform;
+}
+
+std::optional<RobotPathSetup> robot_path_setup(const Job& job, int threads) {
+  const int line = job.robot_path ? job.robot_path->line : 0;
+  if (!job.robot) {
+    if (job.robot_path)
+      throw InputError("robot_path", line,
+                       "needs a robot: section (the robot that runs the program)");
+    return std::nullopt;
+  }
+  if (!job.workpiece || !job.workpiece->pose) {
+    if (job.robot_path)
+      throw InputError("workpiece.pose", line,
+                       "required with robot_path: where the part sits in the cell ([x, y, theta] "
+                       "on the table of workpiece:)");
+    return std::nullopt;
+  }
+  RobotPathSetup setup;
+  try {
+    setup.model = std::make_unique<robot::RobotModel>(job.robot->description);
+  } catch (const std::invalid_argument& error) {
+    throw InputError("robot", 0, error.what());
+  }
+  const robot::RobotModel& model = *setup.model;
+  if (job.robot->posture_rad.empty())
+    throw InputError("robot.posture", 0,
+                     "required for the program: the posture the robot starts from (each sample's "
+                     "inverse kinematics starts at the posture before it)");
+
+  // The structure at every posture, by the job's dynamics source.
+  switch (job.dynamics_source) {
+    case Job::DynamicsSource::robot:
+      setup.structure = toolpath::robot_structure(model);
+      setup.structure_source = "robot";
+      break;
+    case Job::DynamicsSource::postures: {
+      const PostureLibrary& library = *job.posture_library;
+      std::vector<std::vector<robot::DirectionalModeParameters>> tables;
+      for (const auto& table : library.tables) {
+        std::vector<robot::DirectionalModeParameters> t;
+        for (const ModeSpec& m : table)
+          t.push_back(
+              {m.direction - 'x', m.natural_frequency_hz, m.damping_ratio, m.stiffness_n_per_m});
+        tables.push_back(std::move(t));
+      }
+      setup.structure = toolpath::measured_postures_structure(model, library.postures_rad,
+                                                              std::move(tables), library.idw);
+      setup.structure_source = "postures";
+      setup.notes.push_back(
+          "the measured modal tables are interpolated at every sample's posture (001 Eq 16-18)");
+      break;
+    }
+    case Job::DynamicsSource::table:
+      if (job.modes.empty()) {
+        setup.structure = toolpath::robot_structure(model);
+        setup.structure_source = "robot";
+        setup.notes.push_back("no dynamics: section: the robot model's own modes at each posture");
+        break;
+      }
+      [[fallthrough]];
+    case Job::DynamicsSource::fit:
+      setup.structure = toolpath::fixed_structure(model, structure_modes(job));
+      setup.structure_source = job.dynamics_source == Job::DynamicsSource::fit ? "fit" : "table";
+      setup.notes.push_back(
+          "one modal table (tool frame) at every posture: the dynamics do not follow the robot");
+      break;
+    case Job::DynamicsSource::frf:
+      throw InputError("dynamics.use", 0,
+                       "is 'frf': the program analysis needs modes at each posture (use: fit, a "
+                       "modal table, dynamics.postures or from_robot)");
+  }
+
+  // Stability: the zero-order method at every sample, with the job's depth
+  // range, process damping and multi-mode method.
+  if (job.stability) {
+    const StabilitySettings& s = *job.stability;
+    setup.stability.depth_max_m = s.depth_max_m;
+    setup.stability.envelope = s.modes == StabilitySettings::Modes::envelope;
+    if (s.process_damping != StabilitySettings::Damping::none) {
+      stability::ProcessDamping damping;
+      damping.model = s.process_damping == StabilitySettings::Damping::energy_balance
+                          ? stability::ProcessDampingModel::energy_balance
+                          : stability::ProcessDampingModel::linear_equivalent;
+      damping.indentation_n_per_m3 = s.indentation_n_per_m3;
+      damping.wear_land_m = s.wear_land_m;
+      damping.friction = s.friction;
+      setup.stability.process_damping = damping;
+    }
+    if (s.method != StabilitySettings::Method::zoa)
+      setup.notes.push_back(
+          "stability.method is for single cuts; along the program every sample's limit is the "
+          "zero-order one (the semi-/full-discretization would take minutes per sample)");
+    for (int i = 0; i < s.speed_count; ++i)
+      setup.stability.advice_speeds_rad_s.push_back(
+          s.speed_count == 1 ? s.speed_from_rad_s
+                             : s.speed_from_rad_s + (s.speed_to_rad_s - s.speed_from_rad_s) * i /
+                                                        (s.speed_count - 1));
+  }
+  // The regenerative model reduces the law to a linear one; other laws keep
+  // the deflection but not the margin.
+  try {
+    cutting::MillingProcess probe;
+    probe.spindle_rad_s = 1000.0;
+    probe.feed_per_tooth_m = 1e-4;
+    const tool::Tool tool =
+        job.tool ? tool::Tool(*job.tool) : tool::Tool(job.toolpath->tools.begin()->second);
+    probe.radial_depth_m = 0.25 * tool.diameter_m();
+    (void)stability::RegenerativeModel(
+        tool, *job.cutting, probe,
+        dynamics::ModalModel({dynamics::Mode{100.0, 0.05, Eigen::Vector3d::UnitX()}}));
+  } catch (const std::invalid_argument&) {
+    setup.stability.enabled = false;
+    setup.notes.push_back(
+        "the cutting law is not linear: no chatter margin along the program (the regenerative "
+        "model needs Ktc, Krc, Kac); the deflection is computed");
+  }
+
+  toolpath::RobotPathSettings& settings = setup.settings;
+  settings.workpiece_to_cell = workpiece_to_cell(*job.workpiece);
+  settings.seed_rad = Eigen::Map<const Eigen::VectorXd>(
+      job.robot->posture_rad.data(), static_cast<Eigen::Index>(job.robot->posture_rad.size()));
+  settings.threads = threads;
+  if (job.deflection && job.deflection->equivalent_diameter_m > 0.0) {
+    setup.notes.push_back(
+        "deflection.equivalent_diameter is for the job's tool; along the program each cutter's "
+        "bending section is 0.8 × its diameter");
+  }
+  if (job.robot_path) {
+    const RobotPathJobSettings& r = *job.robot_path;
+    settings.redundancy_rad = r.redundancy_rad;
+    settings.tolerance = r.tolerance;
+    settings.max_span = r.max_span;
+    settings.check_every = r.check_every;
+    settings.risk_margin = r.risk_margin;
+    settings.worst_lines = static_cast<std::size_t>(r.worst_lines);
+  }
+  return setup;
+}
+
+}  // namespace robomill::io
