@@ -106,6 +106,22 @@ Content build_content(const Outputs& outputs);
 /// `robomill toolpath`: the path in 3-D, engagement and loads over time, the
 /// final stock, the worst moves and the warnings (figures_toolpath.cpp).
 void toolpath_figures(const Outputs& outputs, Content& content);
+/// Indices of at most `limit` of `y`'s samples keeping its extremes: per run
+/// of consecutive samples, the smallest and the largest (a thinned force
+/// trace still shows every peak, which an even stride would step over).
+std::vector<std::size_t> envelope(const std::vector<double>& y, std::size_t limit);
+/// With the robot along the path (samples_preview.csv has `margin`): adds the
+/// chatter margin and the form error to the tool path's colour menu and hover.
+/// `feed_rows`: the preview row of each point of the path's feed trace
+/// (data[0]), samples.rows() at a gap (figures_toolpath_robot.cpp).
+void robot_path_colours(const Table& samples, const std::vector<std::size_t>& feed_rows,
+                        Figure& path);
+/// With the robot along the path: margin, deflection and joints over time,
+/// the form error on the part, the robot at its worst posture, the headline
+/// and the worst lines with their advice; nothing for a folder without the
+/// robot. `samples`: samples_preview.csv, null when absent
+/// (figures_toolpath_robot.cpp).
+void toolpath_robot_figures(const Table* samples, const nlohmann::json& summary, Content& content);
 /// `robomill listen`: the spectrogram with the onset, the spectrum with each
 /// line's cause, the recorded cuts on the lobes, the verdicts and the advice
 /// (figures_listen.cpp).

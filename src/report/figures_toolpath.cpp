@@ -90,9 +90,8 @@ std::size_t index_of_largest(const std::vector<double>& v) {
   return best;
 }
 
-/// Indices of at most `limit` of `y`'s samples keeping its extremes: per run
-/// of consecutive samples, the smallest and the largest (a thinned force
-/// trace still shows every peak, which an even stride would step over).
+}  // namespace
+
 std::vector<std::size_t> envelope(const std::vector<double>& y, std::size_t limit) {
   if (y.size() <= limit)
     return thin(y.size(), limit);
@@ -116,6 +115,8 @@ std::vector<std::size_t> envelope(const std::vector<double>& y, std::size_t limi
   return at;
 }
 
+namespace {
+
 // ------------------------------------------------------------ the path in 3-D
 
 /// The path of the preview's samples in 3-D: the feed moves as one trace
@@ -137,6 +138,7 @@ void path_figure(const Table& s, const json& summary, Content& c) {
   // the last value across a gap (Plotly draws no segment there anyway).
   std::vector<double> fx, fy, fz, f_engagement, f_force;
   json custom = json::array();
+  std::vector<std::size_t> feed_rows;  // the preview row of each feed point, s.rows() at a gap
   // Rapids, each run joined to the samples before and after it.
   std::vector<double> rx, ry, rz, r_line;
   std::size_t last_feed = at.size(), last_rapid = at.size();
@@ -147,12 +149,14 @@ void path_figure(const Table& s, const json& summary, Content& c) {
         fx.push_back(gap), fy.push_back(gap), fz.push_back(gap);
         f_engagement.push_back(f_engagement.back()), f_force.push_back(f_force.back());
         custom.push_back(json::array());
+        feed_rows.push_back(s.rows());
       }
       fx.push_back(x[k]), fy.push_back(y[k]), fz.push_back(z[k]);
       f_engagement.push_back(std::isfinite(engagement[k]) ? engagement[k] : 0.0);
       f_force.push_back(std::isfinite(force[k]) ? force[k] : 0.0);
       custom.push_back(json::array({integer(line[k]), number(engagement[k]), number(ap[k]),
                                     number(ae[k]), number(force[k])}));
+      feed_rows.push_back(at[k]);
       last_feed = k;
     }
     const bool near_rapid =
@@ -266,6 +270,7 @@ void path_figure(const Table& s, const json& summary, Content& c) {
       "force. Hover for the program line, engagement, axial and radial depth of cut and force; "
       "drag to rotate, scroll to zoom. Axes are true to scale.",
       at.size(), std::isfinite(total) ? fmt::format(" of {}", integer_text(total)) : "");
+  robot_path_colours(s, feed_rows, f);  // chatter margin and form error, with the robot
   c.figures.push_back(std::move(f));
 }
 
@@ -566,10 +571,12 @@ void list_table(const json& summary, const std::string& key, const std::string& 
 }  // namespace
 
 void toolpath_figures(const Outputs& o, Content& c) {
-  if (const auto s = o.table("samples_preview.csv", c)) {
+  const auto s = o.table("samples_preview.csv", c);
+  if (s) {
     path_figure(*s, o.summary, c);
     time_figure(*s, o.summary, c);
   }
+  toolpath_robot_figures(s ? &*s : nullptr, o.summary, c);
   if (const auto t = o.table("stock.csv", c))
     stock_figures(*t, o.summary, c);
   if (const auto m = o.table("moves.csv", c))

@@ -349,3 +349,383 @@ TEST(ToolpathReport, MissingFilesLeaveTheirFiguresOutWithANote) {
   const std::string html = rr::render_html(files);
   EXPECT_NE(html.find("stock.csv is not in the output folder"), std::string::npos);
 }
+
+// ------------------------------------------------------------ the robot along the path
+
+namespace {
+
+/// The pocket's samples with the robot columns of a 6-axis robot appended:
+/// line 4 (the full-width slot) chatters, its margin smallest (0.62) and its
+/// form error largest (42 µm) mid-move; line 7 cuts 3 µm too deep; the cells
+/// of samples not in the cut are empty, the first sample is out of reach.
+std::string robot_samples(int per_move) {
+  const std::string pocket = pocket_samples(per_move);
+  std::string csv =
+      pocket.substr(0, pocket.find('\n')) +
+      ",psi_deg,q1_deg,q2_deg,q3_deg,q4_deg,q5_deg,q6_deg,reachable,joint_margin_deg,"
+      "singularity,ap_limit_mm,margin,chatter,chatter_freq_hz,dev_x_um,dev_y_um,dev_z_um,"
+      "deflection_um,form_error_um,floor_error_um,dynamics_recomputed\n";
+  std::size_t start = pocket.find('\n') + 1;
+  for (int i = 0; start < pocket.size(); ++i) {
+    const std::size_t end = pocket.find('\n', start);
+    csv += pocket.substr(start, end - start);
+    start = end + 1;
+    const int move = i / per_move;  // 0-based: lines 4-7 are moves 3-6
+    const double u = static_cast<double>(i % per_move + 1) / per_move;
+    const double q1 = -20.0 + 40.0 * u + move;
+    const std::string joints =
+        i == 0 ? ",,,,,,,0,,"
+               : fmt::format(",{},-90,{},0,{},{},1,{},{}", q1, 80.0 - move, 45.0 + u, q1 + 10.0,
+                             12.0 + move, 0.3 + 0.01 * move);
+    csv += (i == 0 ? ",0" : ",15") + joints;
+    if (move < 3 || move > 6) {
+      csv += ",,,0,,0,0,0,0,,,0\n";
+      continue;
+    }
+    const bool slot = move == 3;
+    const double ap_limit = slot ? 3.1 + 2.0 * std::abs(u - 0.5) : 8.0 + u;
+    const double margin = ap_limit / 5.0;
+    const double form = slot        ? 12.0 + 30.0 * std::sin(std::numbers::pi * u)
+                        : move == 6 ? -3.0
+                                    : 5.0;
+    const double deflection = std::abs(form) * 1.4;
+    csv += fmt::format(",{},{},{},{},{},{},{},{},{},{},{}\n", ap_limit, margin, margin < 1 ? 1 : 0,
+                       slot ? 620.0 : 0.0, 0.6 * deflection, 0.8 * deflection, 0.0, deflection,
+                       form, 0.2 * form, i % 10 == 0 ? 1 : 0);
+  }
+  return csv;
+}
+
+json robot_along_path() {
+  return {{"robot", "KR 270 R2900-class"},
+          {"dof", 6},
+          {"samples", 400},
+          {"analysed_samples", 399},
+          {"unreachable_samples", 1},
+          {"joint_limit_samples", 0},
+          {"fraction_at_risk", 0.12},
+          {"chatter_samples", 50},
+          {"min_margin", 0.62},
+          {"min_margin_line", 4},
+          {"max_form_error_um", 42.0},
+          {"max_form_error_line", 4},
+          {"max_deflection_um", 58.8},
+          {"dynamics_recomputations", 120},
+          {"shortcut_max_error", 0.004},
+          {"worst_lines",
+           json::array({{{"line", 4},
+                         {"t_s", 1.73},
+                         {"margin", 0.62},
+                         {"ap_mm", 5.0},
+                         {"ap_limit_mm", 3.1},
+                         {"spindle_rpm", 8000},
+                         {"chatter_freq_hz", 620.0},
+                         {"form_error_um", 42.0},
+                         {"advice", "chatter: lower ap to 2.8 mm or move the spindle to 9100 rpm"}},
+                        {{"line", 5}, {"margin", 1.6}, {"advice", "stable"}}})},
+          {"worst_posture",
+           {{"line", 4},
+            {"q_deg", {10, -90, 80, 45.5, 0, 20}},
+            {"joint_origins_mm",
+             {{0, 0, 0},
+              {350, 0, 675},
+              {350, 0, 1825},
+              {1500, 0, 1866},
+              {1700, 0, 1866},
+              {1800, 0, 1866},
+              {1800, 0, 600}}},
+            {"tool_tip_mm", {1800, 0, 600}},
+            {"tool_axis", {0, 0, 1}}}}};
+}
+
+rr::Files robot_files(int per_move = 50) {
+  rr::Files files = pocket_files(per_move);
+  json summary = pocket_summary();
+  summary["robot_along_path"] = robot_along_path();
+  files["summary.json"] = summary.dump(2);
+  files["samples_preview.csv"] = robot_samples(per_move);
+  return files;
+}
+
+std::vector<std::string> trace_names(const rd::Figure& f) {
+  std::vector<std::string> names;
+  for (const json& t : f.data)
+    names.push_back(t.value("name", std::string()));
+  return names;
+}
+
+bool has_null(const json& array) {
+  return std::any_of(array.begin(), array.end(), [](const json& v) { return v.is_null(); });
+}
+
+}  // namespace
+
+TEST(ToolpathRobotReport, PathColourMenuAddsChatterMarginAndFormError) {
+  const rd::Content c = content_of(robot_files());
+  EXPECT_TRUE(c.notes.empty());
+  const rd::Figure* path = figure_titled(c, "Tool path");
+  ASSERT_NE(path, nullptr);
+  const json& feed = path->data[0];
+  const json& buttons = path->layout["updatemenus"][0]["buttons"];
+  ASSERT_EQ(buttons.size(), 4u);
+  EXPECT_EQ(buttons[2]["label"], "colour: chatter margin");
+  EXPECT_EQ(buttons[3]["label"], "colour: form error");
+  // Margin: diverging about 1, red at the bottom, every feed point coloured.
+  const json& margin = buttons[2]["args"][0];
+  EXPECT_EQ(margin["marker.colorbar.title.text"], "chatter margin (ap limit / ap)");
+  const double low = margin["marker.cmin"].get<double>(),
+               high = margin["marker.cmax"].get<double>();
+  EXPECT_LT(low, 0.62);
+  EXPECT_NEAR(low + high, 2.0, 1e-9);
+  EXPECT_EQ(margin["marker.colorscale"][0][0][1], "#b2182b");
+  EXPECT_EQ(margin["line.color"][0].size(), feed["x"].size());
+  EXPECT_FALSE(has_null(margin["marker.color"][0]));
+  // Form error: sequential from its most negative (-3 µm) to its largest (42 µm).
+  const json& form = buttons[3]["args"][0];
+  EXPECT_EQ(form["marker.colorscale"][0], "Cividis");
+  EXPECT_NEAR(form["marker.cmin"].get<double>(), -3.0, 1e-9);
+  EXPECT_NEAR(form["marker.cmax"].get<double>(), 42.0, 0.01);
+  EXPECT_EQ(form["marker.colorbar.title.text"], "form error (µm)");
+  // The engagement and force buttons now restore their own scale.
+  EXPECT_EQ(buttons[0]["args"][0]["marker.colorscale"][0], "Viridis");
+  EXPECT_EQ(buttons[1]["args"][0]["line.cmin"], 0);
+  // Hover: the program line, margin, ap and its limit, form error.
+  const std::string hover = feed["hovertemplate"];
+  for (const char* part :
+       {"line %{customdata[0]}", "ap %{customdata[2]", "chatter margin %{customdata[5]}",
+        "stable ap %{customdata[6]} mm", "form error %{customdata[7]} µm"})
+    EXPECT_NE(hover.find(part), std::string::npos) << part;
+  EXPECT_EQ(feed["customdata"][0][0], 3);
+  EXPECT_EQ(feed["customdata"][0][5], "—");  // the plunge into air: no margin
+  bool slot_seen = false;
+  for (const json& row : feed["customdata"])
+    if (!row.empty() && row[0] == 4 && !slot_seen) {
+      slot_seen = true;
+      EXPECT_NE(row[5], "—");
+      EXPECT_NE(row[6], "—");
+    }
+  EXPECT_TRUE(slot_seen);
+  EXPECT_NE(path->caption.find("chatter margin"), std::string::npos);
+}
+
+TEST(ToolpathRobotReport, MarginDeflectionAndJointsOverTime) {
+  const rd::Content c = content_of(robot_files());
+  const rd::Figure* f = figure_titled(c, "Chatter margin, deflection and joints over time");
+  ASSERT_NE(f, nullptr);
+  const std::vector<std::string> names = trace_names(*f);
+  for (const char* name :
+       {"chatter margin", "deflection", "form error", "floor error", "q1", "q6", "smallest margin"})
+    EXPECT_NE(std::find(names.begin(), names.end(), name), names.end()) << name;
+  for (const json& t : f->data)
+    EXPECT_NE(t["hovertemplate"].get<std::string>().find("line"), std::string::npos);
+  EXPECT_EQ(f->layout["yaxis"]["title"]["text"], "chatter margin (ap limit / ap)");
+  EXPECT_EQ(f->layout["yaxis2"]["title"]["text"], "deflection, error (µm)");
+  EXPECT_EQ(f->layout["yaxis3"]["title"]["text"], "joint angle (°)");
+  EXPECT_EQ(f->layout["xaxis3"]["title"]["text"], "time (s)");
+  for (const json& t : f->data) {
+    if (t["name"] == "q1") {
+      EXPECT_EQ(t["yaxis"], "y3");
+    } else if (t["name"] == "form error") {
+      EXPECT_EQ(t["yaxis"], "y2");
+    } else if (t["name"] == "chatter margin") {
+      EXPECT_TRUE(has_null(t["y"]));  // not in the cut: gaps
+    }
+  }
+  // The line at a margin of 1 and the smallest margin (0.62, line 4) marked.
+  EXPECT_EQ(f->layout["shapes"][0]["y0"], 1);
+  EXPECT_EQ(f->layout["shapes"][0]["yref"], "y");
+  const json& star = f->data.back();
+  EXPECT_EQ(star["name"], "smallest margin");
+  EXPECT_NEAR(star["y"][0].get<double>(), 0.62, 1e-9);
+  EXPECT_NE(star["hovertemplate"].get<std::string>().find("line 4"), std::string::npos);
+}
+
+TEST(ToolpathRobotReport, FormErrorMapOnThePart) {
+  const rd::Content c = content_of(robot_files());
+  const rd::Figure* f = figure_titled(c, "Form error on the part, top view");
+  ASSERT_NE(f, nullptr);
+  const json& points = f->data[0];
+  EXPECT_EQ(points["mode"], "markers");
+  EXPECT_EQ(points["x"].size(), 200u);  // the 4 cutting moves' samples only
+  EXPECT_EQ(points["marker"]["colorbar"]["title"]["text"], "form error (µm)");
+  EXPECT_NEAR(points["marker"]["cmin"].get<double>(), -3.0, 1e-9);
+  EXPECT_NEAR(points["marker"]["cmax"].get<double>(), 42.0, 0.01);
+  EXPECT_NE(points["hovertemplate"].get<std::string>().find("line %{customdata[0]}"),
+            std::string::npos);
+  const json& star = f->data[1];
+  EXPECT_EQ(star["name"], "largest form error");
+  EXPECT_NE(star["hovertemplate"].get<std::string>().find("42 µm<br>line 4"), std::string::npos);
+  EXPECT_EQ(f->layout["shapes"][0]["type"], "rect");
+  EXPECT_EQ(f->layout["shapes"][0]["x1"], 40);
+  EXPECT_EQ(f->layout["yaxis"]["scaleanchor"], "x");
+  EXPECT_EQ(f->layout["xaxis"]["title"]["text"], "x (mm)");
+}
+
+TEST(ToolpathRobotReport, RobotDrawnAtTheWorstPosture) {
+  const rd::Content c = content_of(robot_files());
+  const rd::Figure* f = figure_titled(c, "Robot at the worst posture, line 4");
+  ASSERT_NE(f, nullptr);
+  const json& arm = f->data[0];
+  EXPECT_EQ(arm["type"], "scatter3d");
+  EXPECT_EQ(arm["mode"], "lines+markers");
+  ASSERT_EQ(arm["x"].size(), 7u);
+  EXPECT_EQ(arm["z"][1], 675);
+  EXPECT_EQ(arm["text"][1], "joint 2, q2 = -90°");
+  EXPECT_EQ(arm["text"][6], "tool tip");
+  const std::vector<std::string> names = trace_names(*f);
+  for (const char* name : {"base", "tool tip", "tool axis"})
+    EXPECT_NE(std::find(names.begin(), names.end(), name), names.end()) << name;
+  const json& axis = f->data.back();
+  EXPECT_EQ(axis["name"], "tool axis");
+  EXPECT_EQ(axis["z"][0], 600);
+  EXPECT_GT(axis["z"][1].get<double>(), 600.0);  // along +z from the tip
+  EXPECT_EQ(axis["x"][1], 1800);
+  // True to scale: a cube of equal ranges around the arm (flat in y here).
+  const json& scene = f->layout["scene"];
+  EXPECT_EQ(scene["aspectmode"], "cube");
+  EXPECT_EQ(scene["zaxis"]["title"]["text"], "z (mm)");
+  auto span = [&](const char* a) {
+    return scene[a]["range"][1].get<double>() - scene[a]["range"][0].get<double>();
+  };
+  EXPECT_NEAR(span("xaxis"), span("yaxis"), 1e-6);
+  EXPECT_NEAR(span("zaxis"), span("yaxis"), 1e-6);
+  EXPECT_GE(span("zaxis"), 1866.0);
+  EXPECT_LT(scene["yaxis"]["range"][0].get<double>(), 0.0);
+  EXPECT_NE(f->caption.find("KR 270 R2900-class"), std::string::npos);
+}
+
+TEST(ToolpathRobotReport, HeadlineAndWorstLinesWithTheAdvice) {
+  const rd::Content c = content_of(robot_files());
+  const rd::TextTable* head = table_starting(c, "The robot along the path");
+  ASSERT_NE(head, nullptr);
+  auto row = [&](const std::string& name) {
+    for (const auto& r : head->rows)
+      if (r[0] == name)
+        return r;
+    return std::vector<std::string>{};
+  };
+  EXPECT_EQ(row("robot"), (std::vector<std::string>{"robot", "KR 270 R2900-class, 6 axes", ""}));
+  EXPECT_EQ(row("fraction at risk of chatter")[1], "12 %");
+  EXPECT_EQ(row("smallest chatter margin"),
+            (std::vector<std::string>{"smallest chatter margin", "0.62", "4"}));
+  EXPECT_EQ(row("largest form error"),
+            (std::vector<std::string>{"largest form error", "42 µm", "4"}));
+  EXPECT_EQ(row("dynamics recomputations")[1], "120");
+  EXPECT_EQ(row("shortcut's measured error")[1], "0.004");
+  EXPECT_EQ(row("samples analysed")[1], "399 of 400");
+  const rd::TextTable* worst = table_starting(c, "Program lines with the smallest chatter margin");
+  ASSERT_NE(worst, nullptr);
+  ASSERT_EQ(worst->rows.size(), 2u);
+  EXPECT_EQ(worst->header.back(), "advice");
+  EXPECT_EQ(worst->rows[0], (std::vector<std::string>{
+                                "4", "1.73", "0.62", "5", "3.1", "8000", "620", "42",
+                                "chatter: lower ap to 2.8 mm or move the spindle to 9100 rpm"}));
+  // Keys an item lacks read "—".
+  EXPECT_EQ(worst->rows[1][0], "5");
+  EXPECT_EQ(worst->rows[1][3], "—");
+  EXPECT_EQ(worst->rows[1].back(), "stable");
+}
+
+TEST(ToolpathRobotReport, PageHoldsTheRobotPartsAndNoNaN) {
+  const std::string html = rr::render_html(robot_files());
+  for (const char* part :
+       {"Tool path", "colour: chatter margin", "colour: form error",
+        "Chatter margin, deflection and joints over time", "Form error on the part, top view",
+        "Robot at the worst posture, line 4", "The robot along the path",
+        "chatter: lower ap to 2.8 mm or move the spindle to 9100 rpm",
+        "Engagement and loads over time", "Final stock, height map"})
+    EXPECT_NE(html.find(part), std::string::npos) << part;
+  const std::size_t figures = html.find("id=\"robomill-figures\"");
+  ASSERT_NE(figures, std::string::npos);
+  EXPECT_EQ(html.find("NaN", figures), std::string::npos);
+  EXPECT_EQ(html.find("Infinity", figures), std::string::npos);
+}
+
+TEST(ToolpathRobotReport, AFolderWithoutTheRobotRendersWithoutIt) {
+  const rd::Content c = content_of(pocket_files());
+  for (const char* title :
+       {"Chatter margin, deflection and joints over time", "Form error on the part, top view"})
+    EXPECT_EQ(figure_titled(c, title), nullptr) << title;
+  for (const rd::Figure& f : c.figures)
+    EXPECT_FALSE(f.title.starts_with("Robot at the worst posture"));
+  EXPECT_EQ(table_starting(c, "The robot along the path"), nullptr);
+  EXPECT_EQ(table_starting(c, "Program lines with the smallest chatter margin"), nullptr);
+  const rd::Figure* path = figure_titled(c, "Tool path");
+  ASSERT_NE(path, nullptr);
+  EXPECT_EQ(path->layout["updatemenus"][0]["buttons"].size(), 2u);
+  EXPECT_FALSE(
+      path->layout["updatemenus"][0]["buttons"][0]["args"][0].contains("marker.colorscale"));
+  EXPECT_EQ(path->data[0]["hovertemplate"].get<std::string>().find("margin"), std::string::npos);
+  EXPECT_EQ(path->data[0]["customdata"][0].size(), 5u);
+  EXPECT_EQ(c.figures.size(), 4u);
+  const std::string html = rr::render_html(pocket_files());
+  EXPECT_EQ(html.find("chatter margin"), std::string::npos);
+}
+
+TEST(ToolpathRobotReport, PartialOrMalformedRobotOutputsAreSkippedQuietly) {
+  // The summary's robot without its columns: the posture and the tables only.
+  rr::Files files = pocket_files();
+  json summary = pocket_summary();
+  summary["robot_along_path"] = robot_along_path();
+  files["summary.json"] = summary.dump();
+  rd::Content c = content_of(files);
+  EXPECT_EQ(figure_titled(c, "Chatter margin, deflection and joints over time"), nullptr);
+  EXPECT_NE(figure_titled(c, "Robot at the worst posture, line 4"), nullptr);
+  EXPECT_NE(table_starting(c, "The robot along the path"), nullptr);
+  // Keys missing or of the wrong kind: what remains is shown, nothing fails.
+  summary["robot_along_path"] = {
+      {"min_margin", "low"},
+      {"fraction_at_risk", 0.5},
+      {"worst_lines", json::array({1, "x"})},
+      {"worst_posture", {{"joint_origins_mm", {{0, 0}, "a", {1, 2, 3}}}}}};
+  files["summary.json"] = summary.dump();
+  files["samples_preview.csv"] = robot_samples(50);
+  c = content_of(files);
+  EXPECT_TRUE(c.notes.empty());
+  for (const rd::Figure& f : c.figures)
+    EXPECT_FALSE(f.title.starts_with("Robot at the worst posture"));  // one point only
+  const rd::TextTable* head = table_starting(c, "The robot along the path");
+  ASSERT_NE(head, nullptr);
+  ASSERT_EQ(head->rows.size(), 1u);
+  EXPECT_EQ(head->rows[0][1], "50 %");
+  const rd::TextTable* worst = table_starting(c, "Program lines with the smallest chatter margin");
+  ASSERT_NE(worst, nullptr);
+  EXPECT_EQ(worst->rows[0].back(), "none");
+  EXPECT_NE(figure_titled(c, "Form error on the part, top view"), nullptr);
+  // The summary without the robot, the preview with: the figures from the preview.
+  files["summary.json"] = pocket_summary().dump();
+  c = content_of(files);
+  EXPECT_NE(figure_titled(c, "Chatter margin, deflection and joints over time"), nullptr);
+  EXPECT_EQ(table_starting(c, "The robot along the path"), nullptr);
+  // A preview whose margin column is empty throughout: no timeline, no crash.
+  std::string blank =
+      "line,t_s,x_mm,y_mm,z_mm,motion,margin,form_error_um\n"
+      "1,0.1,0,0,0,linear,,\n2,0.2,1,0,0,linear,,\n";
+  files["samples_preview.csv"] = blank;
+  c = content_of(files);
+  EXPECT_EQ(figure_titled(c, "Chatter margin, deflection and joints over time"), nullptr);
+  EXPECT_EQ(figure_titled(c, "Form error on the part, top view"), nullptr);
+  const std::string html = rr::render_html(files);
+  EXPECT_EQ(html.find("NaN", html.find("id=\"robomill-figures\"")), std::string::npos);
+}
+
+TEST(ToolpathRobotReport, LongPreviewsAreThinnedKeepingTheSmallestMargin) {
+  const rd::Content c = content_of(robot_files(4000));  // 32 000 rows
+  const rd::Figure* f = figure_titled(c, "Chatter margin, deflection and joints over time");
+  ASSERT_NE(f, nullptr);
+  double lowest = 10.0;
+  for (const json& t : f->data) {
+    EXPECT_LE(t["x"].size(), 5000u);
+    if (t["name"] == "chatter margin")
+      for (const json& v : t["y"])
+        lowest = std::min(lowest, v.is_number() ? v.get<double>() : 10.0);
+  }
+  EXPECT_NEAR(lowest, 0.62, 1e-9);
+  const rd::Figure* map = figure_titled(c, "Form error on the part, top view");
+  ASSERT_NE(map, nullptr);
+  EXPECT_LE(map->data[0]["x"].size(), 20001u);
+  const rd::Figure* path = figure_titled(c, "Tool path");
+  ASSERT_NE(path, nullptr);
+  EXPECT_EQ(path->layout["updatemenus"][0]["buttons"][2]["args"][0]["marker.color"][0].size(),
+            path->data[0]["x"].size());
+}
