@@ -16,6 +16,7 @@
 #include "robomill/io/program_readers.hpp"
 #include "robomill/io/robot_path.hpp"
 #include "robomill/toolpath/program_analysis.hpp"
+#include "robomill/toolpath/program_optimization.hpp"
 #include "robomill/toolpath/robot_along_path.hpp"
 
 namespace {
@@ -35,20 +36,34 @@ std::string raster_program() {
   return text;
 }
 
+// The example's robot and cut, the raster program, two threads.
+struct Bench {
+  io::Job job = io::load_job(std::filesystem::path(ROBOMILL_SOURCE_DIR) / "examples" /
+                             "toolpath_robot_pocket.yaml");
+  toolpath::Program program = io::read_gcode(raster_program(), {});
+  toolpath::Tooling tooling;
+  toolpath::ProgramAnalysisSettings settings;
+  Bench() {
+    tooling.emplace(0, tool::Tool(job.toolpath->tools.at(1)));
+    settings.threads = 2;
+    settings.sample_spacing_m = 0.2e-3;
+  }
+  toolpath::DexelStock stock() const {
+    return toolpath::DexelStock({Eigen::Vector3d::Zero(), Eigen::Vector3d(100e-3, 60e-3, 20e-3)},
+                                0.25e-3);
+  }
+};
+
 void BM_RobotAlongProgram(benchmark::State& state) {
   const bool robot_on = state.range(0) != 0;
-  const io::Job job = io::load_job(std::filesystem::path(ROBOMILL_SOURCE_DIR) / "examples" /
-                                   "toolpath_robot_pocket.yaml");
-  const toolpath::Program program = io::read_gcode(raster_program(), {});
-  toolpath::Tooling tooling;
-  tooling.emplace(0, tool::Tool(job.toolpath->tools.at(1)));
-  toolpath::ProgramAnalysisSettings settings;
-  settings.threads = 2;
-  settings.sample_spacing_m = 0.2e-3;
+  const Bench bench;
+  const io::Job& job = bench.job;
+  const toolpath::Program& program = bench.program;
+  const toolpath::Tooling& tooling = bench.tooling;
+  const toolpath::ProgramAnalysisSettings& settings = bench.settings;
   std::size_t samples = 0, solves = 0;
   for (auto _ : state) {
-    toolpath::DexelStock stock({Eigen::Vector3d::Zero(), Eigen::Vector3d(100e-3, 60e-3, 20e-3)},
-                               0.25e-3);
+    toolpath::DexelStock stock = bench.stock();
     std::optional<io::RobotPathSetup> setup = io::robot_path_setup(job, 2);
     toolpath::RobotAlongPath along(*setup->model, setup->structure, tooling, *job.cutting,
                                    setup->stability, setup->settings);
@@ -71,6 +86,45 @@ void BM_RobotAlongProgram(benchmark::State& state) {
       static_cast<double>(samples), benchmark::Counter::kIsIterationInvariantRate);
   state.counters["exact_limits"] = static_cast<double>(solves);
 }
+// --optimize's search: the first pass recording the solved and at-risk
+// samples, then every recorded sample's limits at 41 candidate speeds and the
+// choice per S word (program_optimization.hpp). The target: under 2 minutes.
+void BM_RobotSpindleChoice(benchmark::State& state) {
+  const Bench bench;
+  const io::Job& job = bench.job;
+  const toolpath::Program& program = bench.program;
+  const toolpath::Tooling& tooling = bench.tooling;
+  const toolpath::ProgramAnalysisSettings& settings = bench.settings;
+  std::vector<double> candidates;
+  for (int k = 0; k <= 40; ++k)
+    candidates.push_back((4000.0 + 200.0 * k) * 2.0 * 3.14159265358979 / 60.0);
+  std::size_t recorded_count = 0;
+  for (auto _ : state) {
+    toolpath::DexelStock stock = bench.stock();
+    std::optional<io::RobotPathSetup> setup = io::robot_path_setup(job, 2);
+    toolpath::RobotAlongPath along(*setup->model, setup->structure, tooling, *job.cutting,
+                                   setup->stability, setup->settings);
+    std::vector<toolpath::RobotSample> block;
+    std::vector<toolpath::RecordedSample> recorded;
+    toolpath::analyse_program(
+        program, tooling, *job.cutting, stock, settings,
+        [&](std::span<const toolpath::PathSample> samples_block) {
+          block.resize(samples_block.size());
+          along.evaluate(samples_block, block);
+          for (std::size_t i = 0; i < block.size(); ++i)
+            if (block[i].stability && (block[i].exact || block[i].at_risk))
+              recorded.push_back({samples_block[i], block[i].q_rad, block[i].margin});
+        });
+    const auto choices = toolpath::choose_spindle_speeds(along, toolpath::spindle_regions(program),
+                                                         recorded, candidates, 0.02, 2);
+    recorded_count = recorded.size();
+    benchmark::DoNotOptimize(choices.data());
+  }
+  state.counters["recorded_samples"] = static_cast<double>(recorded_count);
+  state.counters["candidate_speeds"] = static_cast<double>(candidates.size());
+}
+BENCHMARK(BM_RobotSpindleChoice)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
+
 BENCHMARK(BM_RobotAlongProgram)
     ->ArgName("robot")
     ->Arg(0)

@@ -15,10 +15,12 @@
 #include "robomill/io/csv.hpp"
 #include "robomill/io/output_bundle.hpp"
 #include "robomill/io/program_readers.hpp"
+#include "robomill/io/program_writer.hpp"
 #include "robomill/io/robot_path.hpp"
 #include "robomill/io/summary.hpp"
 #include "robomill/robot/kinematics.hpp"
 #include "robomill/toolpath/program_analysis.hpp"
+#include "robomill/toolpath/program_optimization.hpp"
 #include "robomill/toolpath/robot_along_path.hpp"
 
 namespace robomill::app {
@@ -337,6 +339,177 @@ toolpath::Tooling make_tooling(const io::Job& job, const toolpath::Program& prog
   return tooling;
 }
 
+// The job's sampling and force settings for a run over the program.
+toolpath::ProgramAnalysisSettings program_analysis_settings(const io::ToolpathSettings& settings,
+                                                            int threads, std::string source_name) {
+  toolpath::ProgramAnalysisSettings analysis;
+  analysis.sample_spacing_m = settings.spacing_m;
+  analysis.rapid_speed_m_s = settings.rapid_speed_m_s;
+  analysis.default_spindle_rad_s = settings.spindle_rad_s;
+  analysis.force_steps_per_tooth = settings.force_steps_per_tooth;
+  analysis.threads = threads;
+  analysis.source_name = std::move(source_name);
+  return analysis;
+}
+
+// What --optimize keeps of the first pass: the samples whose limits were
+// solved or that are at risk (the solved ones bracket every interpolated run)
+// and, for every sample, whether it was at risk (2: no limit there).
+struct OptimizationRecord {
+  std::vector<toolpath::RecordedSample> recorded;
+  std::vector<unsigned char> at_risk;
+};
+constexpr std::size_t kMaxRecorded = 50000;
+
+void record(OptimizationRecord& record, const toolpath::PathSample& sample,
+            const toolpath::RobotSample& robot) {
+  record.at_risk.push_back(robot.stability ? (robot.at_risk ? 1 : 0) : 2);
+  if (robot.stability && (robot.exact || robot.at_risk) && record.recorded.size() < kMaxRecorded)
+    record.recorded.push_back({sample, robot.q_rad, robot.margin});
+}
+
+std::string program_extension(const io::ToolpathSettings& settings) {
+  const std::string extension = settings.file.extension().string();
+  return extension.empty() ? ".nc" : extension;
+}
+
+// --optimize: the spindle speed of each S word's stretch chosen for its
+// postures, the program written back with the changes named, and the whole
+// analysis re-run on the written program (its own reader, a fresh stock), so
+// that the after-numbers are measured.
+nlohmann::json optimize_program(const io::Job& job, const toolpath::Program& program,
+                                const toolpath::Tooling& tooling, const io::RobotPathSetup& setup,
+                                const toolpath::RobotAlongPath& before,
+                                const OptimizationRecord& record, double cycle_time_before_s,
+                                const std::filesystem::path& scratch, int threads,
+                                CommandResult& result, std::string& message) {
+  const io::ToolpathSettings& settings = *job.toolpath;
+  const std::vector<toolpath::SpindleRegion> regions = toolpath::spindle_regions(program);
+  const std::vector<toolpath::SpindleChoice> choices = toolpath::choose_spindle_speeds(
+      before, regions, record.recorded, setup.stability.advice_speeds_rad_s, 0.02, threads);
+
+  std::vector<io::SpindleEdit> edits;
+  nlohmann::json changes = nlohmann::json::array();
+  for (const toolpath::SpindleChoice& c : choices) {
+    const toolpath::SpindleRegion& region = regions[c.region];
+    const double from_rpm = std::abs(c.programmed_rad_s) * kRpmPerRadS;
+    const double to_rpm = std::abs(c.chosen_rad_s) * kRpmPerRadS;
+    nlohmann::json change = {{"lines", {region.first_line, region.last_line}},
+                             {"tool", region.tool},
+                             {"programmed_rpm", from_rpm},
+                             {"chosen_rpm", to_rpm},
+                             {"samples_judged", c.samples},
+                             {"min_margin_before", c.min_margin_before},
+                             {"min_margin_after", c.min_margin_after},
+                             {"at_risk_before", c.at_risk_before},
+                             {"at_risk_after", c.at_risk_after}};
+    changes.push_back(change);
+    if (!c.changed())
+      continue;
+    edits.push_back({region.first_line, c.chosen_rad_s,
+                     fmt::format("robomill: S{:.0f} -> S{:.0f} for lines {}-{}, min stability "
+                                 "margin {:.2f} -> {:.2f}",
+                                 from_rpm, to_rpm, region.first_line, region.last_line,
+                                 c.min_margin_before, c.min_margin_after)});
+    edits.push_back({region.last_line + 1, c.programmed_rad_s,
+                     fmt::format("robomill: back to the programmed S{:.0f}", from_rpm)});
+  }
+  nlohmann::json out = {{"spindle_choices", changes},
+                        {"speed_range_rpm",
+                         {setup.stability.advice_speeds_rad_s.front() * kRpmPerRadS,
+                          setup.stability.advice_speeds_rad_s.back() * kRpmPerRadS}}};
+  if (edits.empty()) {
+    out["changed"] = false;
+    out["note"] =
+        "no speed in the range raises the smallest margin without putting a safe "
+        "sample at risk: the program is kept";
+    message += "  optimize: no better spindle speed in the range; the program is kept\n";
+    return out;
+  }
+
+  // The program written back in its dialect, then read back by its reader
+  // and analysed again.
+  std::ifstream in(settings.file, std::ios::binary);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string written = io::write_spindle_edits(text, settings.format, std::move(edits));
+  const std::string name = "program_optimized" + program_extension(settings);
+  const std::filesystem::path scratch_file = scratch / (".robomill-" + name);
+  {
+    std::ofstream file(scratch_file, std::ios::binary | std::ios::trunc);
+    file << written;
+    if (!file)
+      throw Error("cannot write " + scratch_file.string());
+  }
+  io::ToolpathSettings again = settings;
+  again.file = scratch_file;
+  toolpath::Program rewritten;
+  try {
+    rewritten = io::read_program(again);
+  } catch (...) {
+    std::error_code ignored;
+    std::filesystem::remove(scratch_file, ignored);
+    throw;
+  }
+  std::error_code ignored;
+  std::filesystem::remove(scratch_file, ignored);
+  if (rewritten.moves.size() != program.moves.size())
+    throw Error(fmt::format("the written program reads back as {} moves, the original as {}",
+                            rewritten.moves.size(), program.moves.size()));
+
+  toolpath::DexelStock stock = make_stock(job);
+  const toolpath::ProgramAnalysisSettings analysis_settings =
+      program_analysis_settings(settings, threads, name);
+  toolpath::RobotAlongPath after(*setup.model, setup.structure, tooling, *job.cutting,
+                                 setup.stability, setup.settings);
+  std::vector<toolpath::RobotSample> block_out;
+  std::size_t index = 0, newly_at_risk = 0, relieved = 0;
+  int first_newly_at_risk_line = 0;
+  const toolpath::ProgramAnalysis analysis = toolpath::analyse_program(
+      rewritten, tooling, *job.cutting, stock, analysis_settings,
+      [&](std::span<const toolpath::PathSample> block) {
+        block_out.resize(block.size());
+        after.evaluate(block, block_out);
+        for (std::size_t i = 0; i < block.size(); ++i, ++index) {
+          const unsigned char was = index < record.at_risk.size() ? record.at_risk[index] : 2;
+          const toolpath::RobotSample& r = block_out[i];
+          if (!r.stability || was == 2)
+            continue;
+          if (r.at_risk && was == 0) {
+            ++newly_at_risk;
+            if (first_newly_at_risk_line == 0)
+              first_newly_at_risk_line = block[i].line;
+          }
+          relieved += !r.at_risk && was == 1 ? 1 : 0;
+        }
+      });
+  const toolpath::RobotPathSummary r = after.finish();
+  const double cycle_after_s =
+      analysis.cutting_time_s + analysis.air_time_s + analysis.dwell_time_s;
+  out["changed"] = true;
+  out["program"] = name;
+  out["after"] = {
+      {"min_margin", r.min_margin},
+      {"min_margin_line", r.min_margin_line},
+      {"chatter_samples", r.chatter},
+      {"at_risk_samples", r.at_risk},
+      {"fraction_at_risk",
+       r.stability_samples > 0 ? static_cast<double>(r.at_risk) / r.stability_samples : 0.0},
+      {"max_form_error_um", r.max_form_error_m * 1e6},
+      {"cycle_time_s", cycle_after_s}};
+  out["cycle_time_before_s"] = cycle_time_before_s;
+  out["samples_newly_at_risk"] = newly_at_risk;
+  out["first_newly_at_risk_line"] = first_newly_at_risk_line;
+  out["samples_relieved"] = relieved;
+  out["samples_compared"] = index;
+  result.texts.emplace_back(name, written);
+  message += fmt::format(
+      "  optimize: {} written; chatter samples {} -> {}, min margin -> {:.2f}, {} samples no "
+      "longer "
+      "at risk, {} newly at risk\n",
+      name, before.summary().chatter, r.chatter, r.min_margin, relieved, newly_at_risk);
+  return out;
+}
+
 nlohmann::json warnings_json(const toolpath::ProgramAnalysis& analysis) {
   nlohmann::json list = nlohmann::json::array();
   for (const auto& warning : analysis.warnings)
@@ -347,7 +520,8 @@ nlohmann::json warnings_json(const toolpath::ProgramAnalysis& analysis) {
 }  // namespace
 
 CommandResult compute_toolpath(const io::Job& job, int threads,
-                               const std::filesystem::path& samples_file, bool progress) {
+                               const std::filesystem::path& samples_file, bool progress,
+                               bool optimize) {
   io::require(job, {io::Section::cutting});
   if (!job.toolpath)
     throw InputError("toolpath", 0, "required section missing: the program (toolpath.file)");
@@ -359,13 +533,8 @@ CommandResult compute_toolpath(const io::Job& job, int threads,
   const toolpath::Tooling tooling = make_tooling(job, program);
   toolpath::DexelStock stock = make_stock(job);
 
-  toolpath::ProgramAnalysisSettings analysis_settings;
-  analysis_settings.sample_spacing_m = settings.spacing_m;
-  analysis_settings.rapid_speed_m_s = settings.rapid_speed_m_s;
-  analysis_settings.default_spindle_rad_s = settings.spindle_rad_s;
-  analysis_settings.force_steps_per_tooth = settings.force_steps_per_tooth;
-  analysis_settings.threads = threads;
-  analysis_settings.source_name = settings.file.filename().string();
+  const toolpath::ProgramAnalysisSettings analysis_settings =
+      program_analysis_settings(settings, threads, settings.file.filename().string());
 
   // Samples stream to the file (or into a table for library callers); a
   // preview of at most kPreviewRows evenly spread rows goes to the report. The
@@ -389,6 +558,15 @@ CommandResult compute_toolpath(const io::Job& job, int threads,
                   robot_setup->stability, robot_setup->settings);
   const int dof = robot ? robot->model().dof() : 0;
   std::vector<toolpath::RobotSample> robot_block;
+  if (optimize && !robot)
+    throw InputError("toolpath", settings.line,
+                     "--optimize needs the robot on the program: a robot: section and "
+                     "workpiece.pose");
+  if (optimize && robot_setup->stability.advice_speeds_rad_s.empty())
+    throw InputError("stability.speeds", 0,
+                     "--optimize needs the spindle range it may choose from (stability.speeds: "
+                     "{from, to, count})");
+  OptimizationRecord optimization;
 
   io::CsvTable samples = sample_table(dof);
   io::CsvTable preview = sample_table(dof);
@@ -412,6 +590,8 @@ CommandResult compute_toolpath(const io::Job& job, int threads,
     for (std::size_t i = 0; i < block.size(); ++i) {
       const toolpath::PathSample& sample = block[i];
       const toolpath::RobotSample* r = robot ? &robot_block[i] : nullptr;
+      if (optimize && r)
+        record(optimization, sample, *r);
       add_sample(target, sample, r);
       if (seen++ % preview_stride == 0)
         add_sample(preview, sample, r);
@@ -528,6 +708,13 @@ CommandResult compute_toolpath(const io::Job& job, int threads,
   }
 
   CommandResult result;
+  if (optimize) {
+    const std::filesystem::path scratch =
+        samples_file.empty() ? std::filesystem::temp_directory_path() : samples_file.parent_path();
+    summary["optimization"] =
+        optimize_program(job, program, tooling, *robot_setup, *robot, optimization, cycle_time_s,
+                         scratch, threads, result, robot_text);
+  }
   if (samples_file.empty())
     result.tables.emplace_back("samples", std::move(samples));
   else
@@ -565,7 +752,7 @@ int run_toolpath(const JobCommandOptions& options) {
   const std::filesystem::path samples_file = staging.temporary_for("samples.csv");
   CommandResult result;
   try {
-    result = compute_toolpath(job, options.threads, samples_file, !options.quiet);
+    result = compute_toolpath(job, options.threads, samples_file, !options.quiet, options.optimize);
   } catch (...) {
     std::filesystem::remove(samples_file, ignored);
     if (!out_existed)

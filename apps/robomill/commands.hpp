@@ -60,6 +60,7 @@ struct JobCommandOptions {
   std::vector<std::string> overrides;
   int threads = 0;
   bool quiet = false;
+  bool optimize = false;  ///< `toolpath --optimize`: write a better program
 };
 
 /// Parses the `--set` assignments and loads the job (throws InputError).
@@ -108,9 +109,12 @@ CommandResult compute_surface(const io::Job& job, int threads);
 /// With `samples_file` the samples stream into that file (the result's
 /// `streamed` names it) so memory does not grow with the program; without,
 /// they are the table "samples". `progress`: a bar on a terminal's stderr.
+/// With `optimize` (and a robot on the program) also the program written
+/// back with better spindle speeds (program_optimized.<ext>) and the whole
+/// analysis re-run on it (summary.json's `optimization`).
 CommandResult compute_toolpath(const io::Job& job, int threads,
                                const std::filesystem::path& samples_file = {},
-                               bool progress = false);
+                               bool progress = false, bool optimize = false);
 
 /// `robomill listen`: the chatter verdict of the job's recordings (issue 22,
 /// docs/monitoring.md); with a stability: section also the lobes (sld) and

@@ -115,6 +115,10 @@ int run(int argc, char** argv, int rank, int ranks) {
       "forces, torque and power at every sample → samples.csv, moves.csv, stock.csv, "
       "summary.json",
       toolpath_options);
+  toolpath_command->add_flag(
+      "--optimize", toolpath_options.optimize,
+      "with a robot on the program: choose each S word's spindle speed in stability.speeds for "
+      "the postures it runs at, write program_optimized.<ext> and re-run the analysis on it");
 
   robomill::app::JobCommandOptions listen_options;
   CLI::App* listen_command = add_job_command(

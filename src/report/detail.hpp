@@ -106,6 +106,11 @@ Content build_content(const Outputs& outputs);
 /// `robomill toolpath`: the path in 3-D, engagement and loads over time, the
 /// final stock, the worst moves and the warnings (figures_toolpath.cpp).
 void toolpath_figures(const Outputs& outputs, Content& content);
+
+/// Program line numbers as JSON integers (null when not finite): values()
+/// keeps 6 significant digits, which would misname lines beyond 999 999.
+nlohmann::json integer(double value);
+nlohmann::json integers(const std::vector<double>& numbers);
 /// Indices of at most `limit` of `y`'s samples keeping its extremes: per run
 /// of consecutive samples, the smallest and the largest (a thinned force
 /// trace still shows every peak, which an even stride would step over).

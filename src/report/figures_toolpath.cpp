@@ -40,19 +40,6 @@ double summary_number(const json& summary, const std::string& key) {
   return it != summary.end() && it->is_number() ? it->get<double>() : std::nan("");
 }
 
-/// Program line numbers as JSON integers: values() keeps 6 significant digits,
-/// which would misname lines beyond 999 999 of a long program.
-json integer(double value) {
-  return std::isfinite(value) ? json(std::llround(value)) : json(nullptr);
-}
-
-json integers(const std::vector<double>& numbers) {
-  json out = json::array();
-  for (double v : numbers)
-    out.push_back(integer(v));
-  return out;
-}
-
 /// One number for the page: rounded, or null when not finite.
 json number(double value) {
   return std::isfinite(value) ? json(rounded(value)) : json(nullptr);
@@ -91,6 +78,17 @@ std::size_t index_of_largest(const std::vector<double>& v) {
 }
 
 }  // namespace
+
+json integer(double value) {
+  return std::isfinite(value) ? json(std::llround(value)) : json(nullptr);
+}
+
+json integers(const std::vector<double>& numbers) {
+  json out = json::array();
+  for (double v : numbers)
+    out.push_back(integer(v));
+  return out;
+}
 
 std::vector<std::size_t> envelope(const std::vector<double>& y, std::size_t limit) {
   if (y.size() <= limit)

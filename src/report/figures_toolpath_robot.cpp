@@ -56,17 +56,6 @@ double number_of(const json& object, const std::string& key) {
   return it != object.end() && it->is_number() ? it->get<double>() : std::nan("");
 }
 
-json integer(double value) {
-  return std::isfinite(value) ? json(std::llround(value)) : json(nullptr);
-}
-
-json integers(const std::vector<double>& numbers) {
-  json out = json::array();
-  for (double v : numbers)
-    out.push_back(integer(v));
-  return out;
-}
-
 std::string integer_text(double value) {
   return std::isfinite(value) ? fmt::format("{}", std::llround(value)) : "—";
 }

@@ -82,6 +82,19 @@ done
 grep -qi 'nan\|inf' "$WORK/r/samples.csv" "$WORK/r/summary.json" && fail "non-finite number written"
 unreachable=$(json_number "$WORK/r/summary.json" robot_along_path unreachable_samples)
 [ "$unreachable" = "0" ] || fail "the example's part is out of reach: $unreachable samples"
+# --optimize: the spindle speeds written back, read back by the G-code reader,
+# no sample newly at risk, the chosen speed inside stability.speeds.
+"$ROBOMILL" toolpath "$R" --out "$WORK/o" --quiet --optimize || fail "--optimize exit code"
+[ -s "$WORK/o/program_optimized.nc" ] || fail "--optimize wrote no program_optimized.nc"
+grep -q '(robomill: S8000 -> S' "$WORK/o/program_optimized.nc" || fail "no commented S change"
+newly=$(awk -F': ' '/"samples_newly_at_risk"/ { gsub(/,/, "", $2); print $2 }' "$WORK/o/summary.json")
+[ "$newly" = "0" ] || fail "--optimize put $newly samples newly at risk"
+awk -F': ' '/"chosen_rpm"/ { gsub(/,/, "", $2); v = $2 + 0; if (v < 4000 || v > 12000.001) bad = 1 } END { exit bad }' \
+  "$WORK/o/summary.json" || fail "a chosen speed outside stability.speeds"
+"$ROBOMILL" toolpath "$G" --set "toolpath.file=$WORK/o/program_optimized.nc" --out "$WORK/o2" --quiet \
+  || fail "the optimized program does not read back"
+expect_exit2 "stability.speeds" toolpath "$R" --optimize --set 'stability={method: zoa, depth_max: 10}'
+expect_exit2 "needs the robot" toolpath "$G" --optimize
 # The part out of the robot's reach, a robot_path without a pose.
 expect_exit2 "reaches no sample" toolpath "$R" --set "workpiece.table=[9000, 0, 500]" \
   --set "toolpath.spacing=2 mm"

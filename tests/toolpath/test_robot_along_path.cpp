@@ -20,6 +20,7 @@
 #include "robomill/robot/stiffness.hpp"
 #include "robomill/stability/process_damping.hpp"
 #include "robomill/stability/regenerative_model.hpp"
+#include "robomill/toolpath/program_optimization.hpp"
 #include "robomill/toolpath/robot_along_path.hpp"
 
 namespace robomill::toolpath {
@@ -288,6 +289,53 @@ robot_path: {redundancy: 0 deg}
       "cutting: {law: linear, Ktc: 796 N/mm^2, Krc: 169 N/mm^2}\n",
       kSource / "tests" / "job.yaml");
   EXPECT_FALSE(io::robot_path_setup(plain, 1).has_value());
+}
+
+TEST(ProgramOptimization, ChosenSpeedRaisesTheSmallestMarginAndPutsNoSafeSampleAtRisk) {
+  // A full slot 3 mm deep at 8000 rpm across the part: the robot's modes
+  // make parts of it chatter. One region (one S word), 41 candidate speeds.
+  Fixture f("robot_path: {risk_margin: 1.2}\n");
+  RobotAlongPath along = f.along();
+  std::vector<PathSample> samples;
+  for (int i = 0; i < 30; ++i)
+    samples.push_back(side_cut_sample((5.0 + 2.0 * i) * 1e-3, 0.0, kPi));
+  std::vector<RobotSample> out(samples.size());
+  along.evaluate(samples, out);
+  std::vector<RecordedSample> recorded;
+  for (std::size_t i = 0; i < samples.size(); ++i)
+    recorded.push_back({samples[i], out[i].q_rad, out[i].margin});
+  Program program;
+  Move move;
+  move.spindle_rad_s = samples[0].spindle_rad_s;
+  move.line = 1;
+  program.moves.push_back(move);
+  const std::vector<SpindleRegion> regions = spindle_regions(program);
+  ASSERT_EQ(regions.size(), 1u);
+  std::vector<double> candidates;
+  for (int k = 0; k <= 40; ++k)
+    candidates.push_back((6000.0 + 100.0 * k) * 2.0 * kPi / 60.0);
+  const auto choices = choose_spindle_speeds(along, regions, recorded, candidates, 0.02, 2);
+  ASSERT_EQ(choices.size(), 1u);
+  const SpindleChoice& c = choices[0];
+  EXPECT_EQ(c.samples, samples.size());
+  EXPECT_GE(c.min_margin_after, c.min_margin_before);
+  EXPECT_LE(c.at_risk_after, c.at_risk_before);
+  if (!c.changed())
+    GTEST_SKIP() << "no better speed in 6000-10000 rpm; margin " << c.min_margin_before;
+  EXPECT_NE(std::find(candidates.begin(), candidates.end(), c.chosen_rad_s), candidates.end());
+  // The claim, checked sample by sample with the direct limit at the new speed.
+  double smallest = 1e300;
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    PathSample moved = samples[i];
+    moved.spindle_rad_s = c.chosen_rad_s;
+    const double margin = along.direct_limit(moved, out[i].q_rad).depth_limit_m / 3e-3;
+    smallest = std::min(smallest, margin);
+    if (out[i].margin > 1.2) {
+      EXPECT_GT(margin, 1.2) << "sample " << i << " was safe and is now at risk";
+    }
+  }
+  EXPECT_NEAR(smallest, c.min_margin_after, 1e-9 * smallest);
+  EXPECT_GT(c.min_margin_after, c.min_margin_before * 1.02);
 }
 
 TEST(RobotAlongPath, BandProcessMapsArcsToTheStraightCut) {

@@ -189,6 +189,8 @@ class RobotAlongPath {
   /// Cell-frame origins of the robot's joint frames, base to tool tip, at q.
   std::vector<Eigen::Vector3d> joint_origins(const Eigen::VectorXd& q_rad) const;
 
+  /// The totals so far (without the worst lines' advice: finish()).
+  const RobotPathSummary& summary() const noexcept { return summary_; }
   const robot::RobotModel& model() const noexcept { return model_; }
   const RobotPathSettings& settings() const noexcept { return settings_; }
 

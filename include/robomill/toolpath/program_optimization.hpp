@@ -1,0 +1,61 @@
+#pragma once
+// A better program (issue 19 item 5, `robomill toolpath JOB --optimize`):
+// the spindle speed of each stretch of the program that one S word governs,
+// chosen inside the job's speed range for the postures and engagements of
+// that stretch (robot_along_path.hpp's zero-order limits at every candidate
+// speed), so that its smallest stability margin grows and no sample that was
+// safe becomes at risk. The programmed speed is kept unless a candidate is
+// better; the chosen speeds are written back by io/program_writer.hpp and
+// the command re-runs the whole analysis on the written program, so the
+// after-numbers are measured, not predicted.
+
+#include <cstddef>
+#include <span>
+#include <vector>
+
+#include "robomill/toolpath/program.hpp"
+#include "robomill/toolpath/robot_along_path.hpp"
+
+namespace robomill::toolpath {
+
+/// Consecutive moves run with one tool at one spindle speed (rapids and
+/// dwells included); a change of either, or the spindle stopping, ends it.
+struct SpindleRegion {
+  std::size_t first_move = 0, last_move = 0;  ///< into Program::moves, inclusive
+  int first_line = 0, last_line = 0;          ///< program lines of those moves
+  int tool = 0;
+  double spindle_rad_s = 0.0;  ///< as programmed (negative: M4)
+};
+
+std::vector<SpindleRegion> spindle_regions(const Program& program);
+
+/// A sample of the first pass kept for the optimization: where it is, what
+/// it cuts, the posture and what the programmed speed gave there.
+struct RecordedSample {
+  PathSample sample;
+  RobotSample::Joints q_rad;
+  double margin = 0.0;
+};
+
+struct SpindleChoice {
+  std::size_t region = 0;
+  double programmed_rad_s = 0.0, chosen_rad_s = 0.0;  ///< signed as programmed
+  std::size_t samples = 0;                            ///< recorded samples judged
+  double min_margin_before = 0.0, min_margin_after = 0.0;
+  std::size_t at_risk_before = 0, at_risk_after = 0;
+  bool changed() const noexcept { return chosen_rad_s != programmed_rad_s; }
+};
+
+/// For every region with recorded samples: the candidate (|speed|, the
+/// programmed direction kept) with the largest smallest margin over the
+/// region's samples among those that put no more samples at risk than the
+/// programmed speed, and no recorded sample that was safe at risk; the
+/// programmed speed unless a candidate raises the smallest margin by more
+/// than `min_gain` (relative). Throws std::invalid_argument for no candidates.
+std::vector<SpindleChoice> choose_spindle_speeds(const RobotAlongPath& along,
+                                                 const std::vector<SpindleRegion>& regions,
+                                                 std::span<const RecordedSample> samples,
+                                                 const std::vector<double>& candidates_rad_s,
+                                                 double min_gain = 0.02, int threads = 0);
+
+}  // namespace robomill::toolpath
