@@ -10,6 +10,7 @@
 #include <pybind11/stl/filesystem.h>
 
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -58,18 +59,28 @@ std::vector<robomill::io::Override> to_overrides(
   return overrides;
 }
 
-/// One column: float64 array when every cell is a number, else a list of
-/// str (numbers among words, which robomill does not write, as float).
+/// One column: float64 array when every cell is a number or empty (a value
+/// that does not apply there, e.g. the chatter margin of a sample in the air:
+/// NaN), else a list of str (numbers among words, which robomill does not
+/// write, as float).
 py::object column(const robomill::io::CsvTable& table, std::size_t c) {
   const std::size_t rows = table.rows();
-  bool numeric = true;
-  for (std::size_t r = 0; r < rows && numeric; ++r)
-    numeric = std::holds_alternative<double>(table.cell(r, c));
-  if (numeric) {
+  auto empty = [&](std::size_t r) {
+    const std::string* word = std::get_if<std::string>(&table.cell(r, c));
+    return word && word->empty();
+  };
+  bool numeric = true, any_number = false;
+  for (std::size_t r = 0; r < rows && numeric; ++r) {
+    const bool number = std::holds_alternative<double>(table.cell(r, c));
+    any_number = any_number || number;
+    numeric = number || empty(r);
+  }
+  if (numeric && (any_number || rows == 0)) {
     py::array_t<double> values(static_cast<py::ssize_t>(rows));
     double* data = values.mutable_data();
     for (std::size_t r = 0; r < rows; ++r)
-      data[r] = std::get<double>(table.cell(r, c));
+      data[r] =
+          empty(r) ? std::numeric_limits<double>::quiet_NaN() : std::get<double>(table.cell(r, c));
     return values;
   }
   py::list values;

@@ -266,6 +266,23 @@ def test_toolpath_samples_are_arrays_by_program_line(source):
     assert "stock" in result and result["stock"]["z_mm"].min() == pytest.approx(17.0, abs=0.01)
 
 
+def test_toolpath_with_a_robot_gives_margins_and_postures(source):
+    # The pocket on the KR 270 (issue 19): joint angles and margins as float
+    # arrays, NaN where a sample is not in the cut; the summary's minimum
+    # margin is a sample's.
+    result = robomill.toolpath(source / "examples" / "toolpath_robot_pocket.yaml")
+    samples = result["samples"]
+    margin = samples["margin"]
+    assert isinstance(margin, np.ndarray) and margin.dtype == np.float64
+    cut = ~np.isnan(margin)
+    assert 0 < cut.sum() < margin.size
+    assert np.all(samples["chatter"][cut] == (margin[cut] <= 1.0))
+    robot = result["summary"]["robot_along_path"]
+    assert robot["min_margin"] == pytest.approx(np.nanmin(margin))
+    assert robot["min_margin_line"] == int(samples["line"][np.nanargmin(margin)])
+    assert samples["q6_deg"].shape == margin.shape and np.all(np.isfinite(samples["q1_deg"]))
+
+
 def test_toolpath_refuses_a_program_by_line_and_word(source):
     job = robomill.Job(source / "examples" / "toolpath_pocket_gcode.yaml",
                        {"toolpath.file": str(source / "tests" / "cli" / "programs" /
