@@ -384,9 +384,41 @@ nlohmann::json optimize_program(const io::Job& job, const toolpath::Program& pro
                                 const std::filesystem::path& scratch, int threads,
                                 CommandResult& result, std::string& message) {
   const io::ToolpathSettings& settings = *job.toolpath;
+  // ψ first (it moves every posture), then the speeds at those postures.
+  std::vector<toolpath::RecordedSample> recorded = record.recorded;
+  toolpath::RobotPathSettings after_settings = setup.settings;
+  nlohmann::json redundancy = nullptr;
+  if (job.robot_path && !job.robot_path->redundancy_search_rad.empty()) {
+    const toolpath::RedundancyChoice psi = toolpath::choose_redundancy_angle(
+        before, recorded, job.robot_path->redundancy_search_rad, 0.02, threads);
+    after_settings.redundancy_rad = psi.chosen_rad;
+    nlohmann::json tried = nlohmann::json::array();
+    for (const auto& c : psi.candidates)
+      tried.push_back({{"redundancy_deg", c.redundancy_rad * kDegPerRad},
+                       {"min_margin", c.min_margin},
+                       {"at_risk", c.at_risk},
+                       {"unreachable", c.unreachable},
+                       {"joint_limit", c.joint_limit},
+                       {"safe_samples_put_at_risk", c.newly_at_risk}});
+    redundancy = {{"programmed_deg", psi.programmed_rad * kDegPerRad},
+                  {"chosen_deg", psi.chosen_rad * kDegPerRad},
+                  {"samples_judged", psi.samples},
+                  {"min_margin_before", psi.min_margin_before},
+                  {"min_margin_after", psi.min_margin_after},
+                  {"candidates", tried},
+                  {"note",
+                   "ψ is the cell's setting (the robot post's rotation about the tool "
+                   "axis): the program has no word for it"}};
+    if (psi.changed())
+      message += fmt::format(
+          "  optimize: redundancy angle {:.0f} -> {:.0f} deg (min margin {:.2f} "
+          "-> {:.2f} at the programmed speeds)\n",
+          psi.programmed_rad * kDegPerRad, psi.chosen_rad * kDegPerRad, psi.min_margin_before,
+          psi.min_margin_after);
+  }
   const std::vector<toolpath::SpindleRegion> regions = toolpath::spindle_regions(program);
   const std::vector<toolpath::SpindleChoice> choices = toolpath::choose_spindle_speeds(
-      before, regions, record.recorded, setup.stability.advice_speeds_rad_s, 0.02, threads);
+      before, regions, recorded, setup.stability.advice_speeds_rad_s, 0.02, threads);
 
   std::vector<io::SpindleEdit> edits;
   nlohmann::json changes = nlohmann::json::array();
@@ -415,10 +447,12 @@ nlohmann::json optimize_program(const io::Job& job, const toolpath::Program& pro
                      fmt::format("robomill: back to the programmed S{:.0f}", from_rpm)});
   }
   nlohmann::json out = {{"spindle_choices", changes},
+                        {"redundancy", redundancy},
                         {"speed_range_rpm",
                          {setup.stability.advice_speeds_rad_s.front() * kRpmPerRadS,
                           setup.stability.advice_speeds_rad_s.back() * kRpmPerRadS}}};
-  if (edits.empty()) {
+  const bool psi_changed = after_settings.redundancy_rad != setup.settings.redundancy_rad;
+  if (edits.empty() && !psi_changed) {
     out["changed"] = false;
     out["note"] =
         "no speed in the range raises the smallest margin without putting a safe "
@@ -429,9 +463,20 @@ nlohmann::json optimize_program(const io::Job& job, const toolpath::Program& pro
 
   // The program written back in its dialect, then read back by its reader
   // and analysed again.
+  if (psi_changed && !edits.empty())
+    edits.front().comment += fmt::format("; run with the redundancy angle {:.0f} deg",
+                                         after_settings.redundancy_rad * kDegPerRad);
   std::ifstream in(settings.file, std::ios::binary);
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const std::string written = io::write_spindle_edits(text, settings.format, std::move(edits));
+  // KRL programs carry no spindle speed (the cell's PLC sets it): the
+  // choices are reported, the program is not rewritten.
+  const bool edits_written = !edits.empty() && settings.format != io::ToolpathSettings::Format::krl;
+  if (!edits.empty() && !edits_written)
+    out["note"] =
+        "KRL programs carry no spindle speed (the cell's PLC sets it): set the chosen "
+        "speeds there; the re-run shows the redundancy angle's effect only";
+  const std::string written =
+      edits_written ? io::write_spindle_edits(text, settings.format, std::move(edits)) : text;
   const std::string name = "program_optimized" + program_extension(settings);
   const std::filesystem::path scratch_file = scratch / (".robomill-" + name);
   {
@@ -460,7 +505,7 @@ nlohmann::json optimize_program(const io::Job& job, const toolpath::Program& pro
   const toolpath::ProgramAnalysisSettings analysis_settings =
       program_analysis_settings(settings, threads, name);
   toolpath::RobotAlongPath after(*setup.model, setup.structure, tooling, *job.cutting,
-                                 setup.stability, setup.settings);
+                                 setup.stability, after_settings);
   std::vector<toolpath::RobotSample> block_out;
   std::size_t index = 0, newly_at_risk = 0, relieved = 0;
   int first_newly_at_risk_line = 0;
@@ -501,7 +546,11 @@ nlohmann::json optimize_program(const io::Job& job, const toolpath::Program& pro
   out["first_newly_at_risk_line"] = first_newly_at_risk_line;
   out["samples_relieved"] = relieved;
   out["samples_compared"] = index;
-  result.texts.emplace_back(name, written);
+  out["after"]["redundancy_deg"] = after_settings.redundancy_rad * kDegPerRad;
+  if (!edits_written)
+    out["program"] = nullptr;  // only ψ changed: the program itself is the same
+  else
+    result.texts.emplace_back(name, written);
   message += fmt::format(
       "  optimize: {} written; chatter samples {} -> {}, min margin -> {:.2f}, {} samples no "
       "longer "

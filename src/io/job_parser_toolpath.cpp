@@ -169,6 +169,18 @@ void read_robot_path(SectionReader& root, Job& job) {
   s.risk_margin =
       r.quantity_or("risk_margin", dimensionless(Bound{1.0, true}, Bound{10.0, true}), 1.0);
   s.worst_lines = r.integer_or("worst_lines", 1, 1000, 10);
+  if (auto search = r.section("redundancy_search")) {
+    search->allow_schema("robot_path.redundancy_search");
+    const double from = search->quantity("from", angle_deg());
+    const double to = search->quantity("to", angle_deg());
+    const int count = search->integer("count", 1, 721);
+    if (count > 1 && !(to > from))
+      search->fail("to", fmt::format("must exceed from ({:g} deg) when count > 1, got {:g} deg",
+                                     from / kDeg, to / kDeg));
+    search->finish();
+    for (int i = 0; i < count; ++i)
+      s.redundancy_search_rad.push_back(count == 1 ? from : from + (to - from) * i / (count - 1));
+  }
   r.finish();
   job.robot_path = s;
 }

@@ -93,4 +93,68 @@ std::vector<SpindleChoice> choose_spindle_speeds(const RobotAlongPath& along,
   return choices;
 }
 
+RedundancyChoice choose_redundancy_angle(const RobotAlongPath& along,
+                                         std::vector<RecordedSample>& samples,
+                                         const std::vector<double>& candidates_rad, double min_gain,
+                                         int threads) {
+  const double risk = along.settings().risk_margin;
+  RedundancyChoice choice;
+  choice.programmed_rad = choice.chosen_rad = along.settings().redundancy_rad;
+  choice.samples = samples.size();
+  choice.min_margin_before = std::numeric_limits<double>::infinity();
+  for (const RecordedSample& r : samples) {
+    choice.min_margin_before = std::min(choice.min_margin_before, r.margin);
+    choice.at_risk_before += r.margin <= risk ? 1 : 0;
+  }
+  if (samples.empty())
+    return choice;
+  choice.min_margin_after = choice.min_margin_before;
+  choice.at_risk_after = choice.at_risk_before;
+  const std::size_t n = samples.size();
+  std::vector<RecordedSample> best;
+  for (const double psi : candidates_rad) {
+    std::vector<RecordedSample> moved(samples.begin(), samples.end());
+    std::vector<char> reachable(n, 0), limit(n, 0);
+    core::parallel_for(n, threads, [&](std::size_t i) {
+      const RobotSample robot =
+          along.posture_at(samples[i].sample, psi, Eigen::VectorXd(samples[i].q_rad));
+      reachable[i] = robot.reachable ? 1 : 0;
+      limit[i] = robot.joint_limit ? 1 : 0;
+      if (!robot.reachable)
+        return;
+      moved[i].q_rad = robot.q_rad;
+      moved[i].margin =
+          along.direct_limit(samples[i].sample, Eigen::VectorXd(robot.q_rad)).depth_limit_m /
+          samples[i].sample.axial_depth_m;
+    });
+    RedundancyChoice::Candidate c;
+    c.redundancy_rad = psi;
+    c.min_margin = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < n; ++i) {
+      c.unreachable += reachable[i] ? 0 : 1;
+      c.joint_limit += limit[i];
+      if (!reachable[i])
+        continue;
+      c.min_margin = std::min(c.min_margin, moved[i].margin);
+      c.at_risk += moved[i].margin <= risk ? 1 : 0;
+      c.newly_at_risk = c.newly_at_risk || (moved[i].margin <= risk && samples[i].margin > risk);
+    }
+    if (c.unreachable > 0)
+      c.min_margin = 0.0;
+    choice.candidates.push_back(c);
+    const bool admissible = c.unreachable == 0 && c.joint_limit == 0 && !c.newly_at_risk &&
+                            c.at_risk <= choice.at_risk_before;
+    if (admissible && c.min_margin > choice.min_margin_after &&
+        c.min_margin > choice.min_margin_before * (1.0 + min_gain)) {
+      choice.min_margin_after = c.min_margin;
+      choice.at_risk_after = c.at_risk;
+      choice.chosen_rad = psi;
+      best = std::move(moved);
+    }
+  }
+  if (choice.changed())
+    samples = std::move(best);
+  return choice;
+}
+
 }  // namespace robomill::toolpath

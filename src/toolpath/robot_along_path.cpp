@@ -151,7 +151,9 @@ RobotAlongPath::RobotAlongPath(const robot::RobotModel& model, PostureStructure 
   summary_.min_margin = std::numeric_limits<double>::infinity();
 }
 
-void RobotAlongPath::posture(const PathSample& sample, RobotSample& out) {
+RobotSample RobotAlongPath::posture_at(const PathSample& sample, double redundancy_rad,
+                                       const Eigen::VectorXd& seed_rad) const {
+  RobotSample out;
   const Eigen::Vector3d tip = settings_.workpiece_to_cell * sample.tip_m;
   const Eigen::Vector3d axis = (settings_.workpiece_to_cell.linear() * sample.axis).normalized();
   robot::IkOptions ik;
@@ -160,15 +162,15 @@ void RobotAlongPath::posture(const PathSample& sample, RobotSample& out) {
   ik.orientation_tolerance_rad = 1e-9;
   ik.restarts = 0;  // follow the configuration of the sample before
   robot::IkResult solution =
-      robot::inverse_kinematics_about_axis(model_, tip, axis, settings_.redundancy_rad, seed_, ik);
+      robot::inverse_kinematics_about_axis(model_, tip, axis, redundancy_rad, seed_rad, ik);
   if (!solution.converged) {
     ik.restarts = 8;
-    solution = robot::inverse_kinematics_about_axis(model_, tip, axis, settings_.redundancy_rad,
-                                                    seed_, ik);
+    solution =
+        robot::inverse_kinematics_about_axis(model_, tip, axis, redundancy_rad, seed_rad, ik);
   }
   out.reachable = solution.converged;
   out.q_rad = solution.q;
-  out.redundancy_rad = settings_.redundancy_rad;
+  out.redundancy_rad = redundancy_rad;
   double margin = std::numeric_limits<double>::infinity();
   for (int j = 0; j < model_.dof(); ++j) {
     const auto& joint = model_.joints()[static_cast<std::size_t>(j)];
@@ -185,8 +187,13 @@ void RobotAlongPath::posture(const PathSample& sample, RobotSample& out) {
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(used);
   const Eigen::VectorXd sigma = svd.singularValues();
   out.singularity = sigma(0) > 0.0 ? sigma(sigma.size() - 1) / sigma(0) : 0.0;
+  return out;
+}
+
+void RobotAlongPath::posture(const PathSample& sample, RobotSample& out) {
+  out = posture_at(sample, settings_.redundancy_rad, seed_);
   if (out.reachable)
-    seed_ = solution.q;
+    seed_ = out.q_rad;
 }
 
 void RobotAlongPath::deflect(const PathSample& sample, RobotSample& out) const {

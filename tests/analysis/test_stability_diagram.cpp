@@ -50,7 +50,7 @@ ra::StabilityLimit limit(double spindle_rad_s, double depth_m, bool limited = tr
 // Ks = N Kr / 4; G = 1/(k (1 − r² + 2iζr)) has min Re G = −1/(4kζ(1+ζ)) at
 // r² = 1 + 2ζ. Every number below comes from the job file.
 TEST(StabilityDiagram, OneDofSlotMinimumMatchesClosedForm) {
-  const int count = 4001;
+  const int count = 401;
   const io::Job job =
       example("benchmark_1dof_slot.yaml",
               {{"stability.method", "zoa"}, {"stability.speeds.count", std::to_string(count)}});

@@ -58,4 +58,36 @@ std::vector<SpindleChoice> choose_spindle_speeds(const RobotAlongPath& along,
                                                  const std::vector<double>& candidates_rad_s,
                                                  double min_gain = 0.02, int threads = 0);
 
+/// One redundancy angle ψ for the whole program (001 §2.1.4, 003 §3.3: the
+/// rotation about the tool axis moves the robot's modes and stiffness at the
+/// tip). ψ is the cell's choice, not the program's (a G-code or APT program
+/// has no word for it), so it is reported, and the re-run uses it.
+struct RedundancyChoice {
+  struct Candidate {
+    double redundancy_rad = 0.0;
+    double min_margin = 0.0;
+    std::size_t at_risk = 0, unreachable = 0, joint_limit = 0;
+    bool newly_at_risk = false;  ///< a recorded sample safe at the programmed ψ is not here
+  };
+  double programmed_rad = 0.0, chosen_rad = 0.0;
+  std::size_t samples = 0;
+  double min_margin_before = 0.0, min_margin_after = 0.0;
+  std::size_t at_risk_before = 0, at_risk_after = 0;
+  std::vector<Candidate> candidates;  ///< every angle tried, in order
+  bool changed() const noexcept { return chosen_rad != programmed_rad; }
+};
+
+/// Every recorded sample's posture at each candidate ψ (the inverse
+/// kinematics from the recorded posture, so the robot keeps its
+/// configuration) and the limit there at the sample's own speed. The
+/// candidate kept has every sample reachable and off the joint limits, no
+/// safe sample at risk, no more samples at risk, and the largest smallest
+/// margin, better than the programmed ψ's by more than `min_gain`; else the
+/// programmed ψ. On return `samples` hold the postures and margins at the
+/// chosen ψ (for the spindle choice that follows).
+RedundancyChoice choose_redundancy_angle(const RobotAlongPath& along,
+                                         std::vector<RecordedSample>& samples,
+                                         const std::vector<double>& candidates_rad,
+                                         double min_gain = 0.02, int threads = 0);
+
 }  // namespace robomill::toolpath

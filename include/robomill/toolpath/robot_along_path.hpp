@@ -176,6 +176,11 @@ class RobotAlongPath {
   /// The totals so far, with the worst lines' advice computed.
   RobotPathSummary finish();
 
+  /// The robot at a sample with redundancy angle ψ, the inverse kinematics
+  /// starting from `seed_rad` (the posture only: no limit, no deflection).
+  RobotSample posture_at(const PathSample& sample, double redundancy_rad,
+                         const Eigen::VectorXd& seed_rad) const;
+
   /// The limit at one sample's posture and engagement computed directly (no
   /// shortcut), for checks: depth, chatter frequency, limited.
   stability::ZeroOrderLimit direct_limit(const PathSample& sample,
