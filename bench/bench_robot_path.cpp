@@ -10,11 +10,13 @@
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
 
+#include <memory>
 #include <string>
 
 #include "robomill/io/job.hpp"
 #include "robomill/io/program_readers.hpp"
 #include "robomill/io/robot_path.hpp"
+#include "robomill/toolpath/feed_schedule.hpp"
 #include "robomill/toolpath/program_analysis.hpp"
 #include "robomill/toolpath/program_optimization.hpp"
 #include "robomill/toolpath/robot_along_path.hpp"
@@ -124,6 +126,44 @@ void BM_RobotSpindleChoice(benchmark::State& state) {
   state.counters["candidate_speeds"] = static_cast<double>(candidates.size());
 }
 BENCHMARK(BM_RobotSpindleChoice)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
+
+// --optimize's feed schedule (feed_schedule.hpp) on the same program: the
+// whole program measured at trial feeds (forces, the robot's posture and
+// deflection, joint speeds; no stable depths, which the feed does not move)
+// until every line sits under the example's caps (120 N, 50 um, 20 deg/s,
+// 50-2000 mm/min). Reports the runs it took and the lines changed.
+void BM_RobotFeedSchedule(benchmark::State& state) {
+  const Bench bench;
+  const io::Job& job = bench.job;
+  const toolpath::Program& program = bench.program;
+  const toolpath::Tooling& tooling = bench.tooling;
+  const toolpath::ProgramAnalysisSettings& settings = bench.settings;
+  const toolpath::FeedLimits limits = io::feed_limits(*job.robot_path->feed_limits);
+  int runs = 0;
+  std::size_t changed = 0;
+  for (auto _ : state) {
+    std::optional<io::RobotPathSetup> setup = io::robot_path_setup(job, 2);
+    toolpath::PathStabilitySettings no_limits = setup->stability;
+    no_limits.enabled = false;
+    const auto make_robot = [&] {
+      return std::make_unique<toolpath::RobotAlongPath>(*setup->model, setup->structure, tooling,
+                                                        *job.cutting, no_limits, setup->settings);
+    };
+    const toolpath::FeedSchedule schedule =
+        toolpath::schedule_feeds(program, limits, [&](const std::vector<double>& scale) {
+          return toolpath::measure_move_loads(program, scale, tooling, *job.cutting, bench.stock(),
+                                              settings, make_robot);
+        });
+    runs = schedule.runs;
+    changed = 0;
+    for (const toolpath::LineFeed& line : schedule.lines)
+      changed += line.changed() ? 1 : 0;
+    benchmark::DoNotOptimize(schedule.max_after.force_peak_n);
+  }
+  state.counters["runs"] = runs;
+  state.counters["lines_changed"] = static_cast<double>(changed);
+}
+BENCHMARK(BM_RobotFeedSchedule)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
 
 BENCHMARK(BM_RobotAlongProgram)
     ->ArgName("robot")

@@ -3,10 +3,12 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <numbers>
 #include <set>
 
@@ -19,6 +21,7 @@
 #include "robomill/io/robot_path.hpp"
 #include "robomill/io/summary.hpp"
 #include "robomill/robot/kinematics.hpp"
+#include "robomill/toolpath/feed_schedule.hpp"
 #include "robomill/toolpath/program_analysis.hpp"
 #include "robomill/toolpath/program_optimization.hpp"
 #include "robomill/toolpath/robot_along_path.hpp"
@@ -373,17 +376,103 @@ std::string program_extension(const io::ToolpathSettings& settings) {
   return extension.empty() ? ".nc" : extension;
 }
 
-// --optimize: the spindle speed of each S word's stretch chosen for its
-// postures, the program written back with the changes named, and the whole
-// analysis re-run on the written program (its own reader, a fresh stock), so
-// that the after-numbers are measured.
+// Writes `text` to a scratch file and reads it back with the program's own
+// reader (the written program must parse as it will on the cell).
+toolpath::Program read_back(const io::ToolpathSettings& settings, const std::string& text,
+                            const std::filesystem::path& scratch_file, std::size_t expected_moves) {
+  {
+    std::ofstream file(scratch_file, std::ios::binary | std::ios::trunc);
+    file << text;
+    if (!file)
+      throw Error("cannot write " + scratch_file.string());
+  }
+  io::ToolpathSettings again = settings;
+  again.file = scratch_file;
+  toolpath::Program program;
+  try {
+    program = io::read_program(again);
+  } catch (...) {
+    std::error_code ignored;
+    std::filesystem::remove(scratch_file, ignored);
+    throw;
+  }
+  std::error_code ignored;
+  std::filesystem::remove(scratch_file, ignored);
+  if (program.moves.size() != expected_moves)
+    throw Error(fmt::format("the written program reads back as {} moves, the original as {}",
+                            program.moves.size(), expected_moves));
+  return program;
+}
+
+nlohmann::json loads_json(const toolpath::MoveLoads& loads) {
+  return {{"force_peak_N", loads.force_peak_n},
+          {"torque_peak_Nm", loads.torque_peak_nm},
+          {"deflection_um", loads.deflection_m * 1e6},
+          {"joint_speed_deg_s", loads.joint_speed_rad_s * kDegPerRad}};
+}
+
+// The feed edits of a schedule: each changed line rescaled, and the feed in
+// force restored before the next unchanged feed line. Where the program runs
+// its lines out of order (a KRL FOR loop), every unchanged feed line gets the
+// restore, since any of them may follow a changed one.
+std::vector<io::FeedEdit> feed_edits(const toolpath::Program& program,
+                                     const toolpath::FeedSchedule& schedule,
+                                     const toolpath::FeedLimits& limits) {
+  bool in_order = true;
+  for (std::size_t m = 1; m < program.moves.size(); ++m)
+    in_order = in_order && program.moves[m].line >= program.moves[m - 1].line;
+  std::vector<const toolpath::LineFeed*> lines;
+  for (const toolpath::LineFeed& line : schedule.lines)
+    lines.push_back(&line);
+  std::sort(lines.begin(), lines.end(),
+            [](const auto* a, const auto* b) { return a->line < b->line; });
+  std::vector<io::FeedEdit> edits;
+  bool any_changed = false, previous_changed = false;
+  for (const toolpath::LineFeed* line : lines) {
+    if (line->changed()) {
+      const toolpath::MoveLoads& b = line->before;
+      const toolpath::MoveLoads& a = line->after;
+      std::string loads;
+      if (limits.force_max_n > 0.0)
+        loads += fmt::format(", peak force {:.0f} -> {:.0f} N", b.force_peak_n, a.force_peak_n);
+      if (limits.torque_max_nm > 0.0)
+        loads +=
+            fmt::format(", peak torque {:.2f} -> {:.2f} N*m", b.torque_peak_nm, a.torque_peak_nm);
+      if (limits.deflection_max_m > 0.0)
+        loads += fmt::format(", deflection {:.0f} -> {:.0f} um", b.deflection_m * 1e6,
+                             a.deflection_m * 1e6);
+      if (limits.joint_speed_max_rad_s > 0.0)
+        loads += fmt::format(", fastest joint {:.1f} -> {:.1f} deg/s",
+                             b.joint_speed_rad_s * kDegPerRad, a.joint_speed_rad_s * kDegPerRad);
+      edits.push_back(
+          {line->line, line->scale, line->programmed_m_s,
+           fmt::format("robomill: feed {:.0f} -> {:.0f} mm/min ({}){}", line->programmed_m_s * 6e4,
+                       line->programmed_m_s * line->scale * 6e4, line->binding, loads)});
+    } else if (any_changed && (previous_changed || !in_order)) {
+      edits.push_back({line->line, 1.0, line->programmed_m_s, "robomill: the programmed feed"});
+    }
+    any_changed = any_changed || line->changed();
+    previous_changed = line->changed();
+  }
+  return edits;
+}
+
+// --optimize: the redundancy angle for the whole program, the spindle speed
+// of each S word's stretch chosen for its postures, the feed of every line
+// under the job's caps, the program written back with the changes named, and
+// the whole analysis re-run on the written program (its own reader, a fresh
+// stock, the samples where the first run put them), so that the
+// after-numbers are measured.
 nlohmann::json optimize_program(const io::Job& job, const toolpath::Program& program,
                                 const toolpath::Tooling& tooling, const io::RobotPathSetup& setup,
                                 const toolpath::RobotAlongPath& before,
-                                const OptimizationRecord& record, double cycle_time_before_s,
+                                const OptimizationRecord& record,
+                                const toolpath::ProgramAnalysis& first_pass,
                                 const std::filesystem::path& scratch, int threads,
                                 CommandResult& result, std::string& message) {
   const io::ToolpathSettings& settings = *job.toolpath;
+  const double cycle_time_before_s =
+      first_pass.cutting_time_s + first_pass.air_time_s + first_pass.dwell_time_s;
   // ψ first (it moves every posture), then the speeds at those postures.
   std::vector<toolpath::RecordedSample> recorded = record.recorded;
   toolpath::RobotPathSettings after_settings = setup.settings;
@@ -417,8 +506,10 @@ nlohmann::json optimize_program(const io::Job& job, const toolpath::Program& pro
           psi.min_margin_after);
   }
   const std::vector<toolpath::SpindleRegion> regions = toolpath::spindle_regions(program);
-  const std::vector<toolpath::SpindleChoice> choices = toolpath::choose_spindle_speeds(
-      before, regions, recorded, setup.stability.advice_speeds_rad_s, 0.02, threads);
+  std::vector<toolpath::SpindleChoice> choices;
+  if (!setup.stability.advice_speeds_rad_s.empty())
+    choices = toolpath::choose_spindle_speeds(before, regions, recorded,
+                                              setup.stability.advice_speeds_rad_s, 0.02, threads);
 
   std::vector<io::SpindleEdit> edits;
   nlohmann::json changes = nlohmann::json::array();
@@ -446,77 +537,150 @@ nlohmann::json optimize_program(const io::Job& job, const toolpath::Program& pro
     edits.push_back({region.last_line + 1, c.programmed_rad_s,
                      fmt::format("robomill: back to the programmed S{:.0f}", from_rpm)});
   }
-  nlohmann::json out = {{"spindle_choices", changes},
-                        {"redundancy", redundancy},
-                        {"speed_range_rpm",
-                         {setup.stability.advice_speeds_rad_s.front() * kRpmPerRadS,
-                          setup.stability.advice_speeds_rad_s.back() * kRpmPerRadS}}};
+  nlohmann::json out = {{"spindle_choices", changes}, {"redundancy", redundancy}};
+  if (!setup.stability.advice_speeds_rad_s.empty())
+    out["speed_range_rpm"] = {setup.stability.advice_speeds_rad_s.front() * kRpmPerRadS,
+                              setup.stability.advice_speeds_rad_s.back() * kRpmPerRadS};
   const bool psi_changed = after_settings.redundancy_rad != setup.settings.redundancy_rad;
-  if (edits.empty() && !psi_changed) {
-    out["changed"] = false;
-    out["note"] =
-        "no speed in the range raises the smallest margin without putting a safe "
-        "sample at risk: the program is kept";
-    message += "  optimize: no better spindle speed in the range; the program is kept\n";
-    return out;
-  }
-
-  // The program written back in its dialect, then read back by its reader
-  // and analysed again.
   if (psi_changed && !edits.empty())
     edits.front().comment += fmt::format("; run with the redundancy angle {:.0f} deg",
                                          after_settings.redundancy_rad * kDegPerRad);
+
   std::ifstream in(settings.file, std::ios::binary);
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   // KRL programs carry no spindle speed (the cell's PLC sets it): the
-  // choices are reported, the program is not rewritten.
-  const bool edits_written = !edits.empty() && settings.format != io::ToolpathSettings::Format::krl;
-  if (!edits.empty() && !edits_written)
+  // choices are reported, not written.
+  const bool krl = settings.format == io::ToolpathSettings::Format::krl;
+  const bool spindles_written = !edits.empty() && !krl;
+  if (!edits.empty() && krl)
     out["note"] =
         "KRL programs carry no spindle speed (the cell's PLC sets it): set the chosen "
-        "speeds there; the re-run shows the redundancy angle's effect only";
-  const std::string written =
-      edits_written ? io::write_spindle_edits(text, settings.format, std::move(edits)) : text;
+        "speeds there; the re-run shows the redundancy angle's and the feeds' effect only";
+  if (!spindles_written)
+    edits.clear();
   const std::string name = "program_optimized" + program_extension(settings);
   const std::filesystem::path scratch_file = scratch / (".robomill-" + name);
-  {
-    std::ofstream file(scratch_file, std::ios::binary | std::ios::trunc);
-    file << written;
-    if (!file)
-      throw Error("cannot write " + scratch_file.string());
+  toolpath::ProgramAnalysisSettings analysis_settings =
+      program_analysis_settings(settings, threads, name);
+  for (const toolpath::MoveTotals& move : first_pass.moves)
+    analysis_settings.move_spacing_m.push_back(move.spacing_m);
+
+  // The feeds, on the program as it will run with the chosen speeds (the
+  // spindle edits written and read back) at the chosen ψ.
+  std::vector<io::FeedEdit> feeds;
+  std::vector<double> feed_scale(program.moves.size(), 1.0);
+  toolpath::Program with_speeds =
+      spindles_written ? read_back(settings, io::write_spindle_edits(text, settings.format, edits),
+                                   scratch_file, program.moves.size())
+                       : program;
+  // Its moves keep the original program's line numbers (the inserted S
+  // blocks shift the written text's), which the feed edits and errors name.
+  for (std::size_t m = 0; m < with_speeds.moves.size(); ++m)
+    with_speeds.moves[m].line = program.moves[m].line;
+  if (job.robot_path && job.robot_path->feed_limits) {
+    const toolpath::FeedLimits limits = io::feed_limits(*job.robot_path->feed_limits);
+    const toolpath::DexelStock stock = make_stock(job);
+    toolpath::PathStabilitySettings no_limits = setup.stability;
+    no_limits.enabled = false;  // the feed does not move the stable depth
+    const auto make_robot = [&] {
+      return std::make_unique<toolpath::RobotAlongPath>(*setup.model, setup.structure, tooling,
+                                                        *job.cutting, no_limits, after_settings);
+    };
+    const toolpath::FeedSchedule schedule =
+        toolpath::schedule_feeds(with_speeds, limits, [&](const std::vector<double>& scale) {
+          return toolpath::measure_move_loads(with_speeds, scale, tooling, *job.cutting, stock,
+                                              analysis_settings, make_robot);
+        });
+    feeds = feed_edits(with_speeds, schedule, limits);
+    nlohmann::json lines = nlohmann::json::array();
+    std::size_t changed = 0, slowed = 0;
+    for (const toolpath::LineFeed& line : schedule.lines) {
+      for (std::size_t m : line.moves)
+        feed_scale[m] = line.scale;
+      if (!line.changed())
+        continue;
+      ++changed;
+      slowed += line.scale < 1.0 ? 1 : 0;
+      if (lines.size() < 500)
+        lines.push_back({{"line", line.line},
+                         {"programmed_mm_min", line.programmed_m_s * 6e4},
+                         {"chosen_mm_min", line.programmed_m_s * line.scale * 6e4},
+                         {"binding", line.binding},
+                         {"before", loads_json(line.before)},
+                         {"after", loads_json(line.after)}});
+    }
+    out["feeds"] = {{"limits",
+                     {{"force_max_N", limits.force_max_n},
+                      {"torque_max_Nm", limits.torque_max_nm},
+                      {"deflection_max_um", limits.deflection_max_m * 1e6},
+                      {"joint_speed_max_deg_s", limits.joint_speed_max_rad_s * kDegPerRad},
+                      {"feed_min_mm_min", limits.feed_min_m_s * 6e4},
+                      {"feed_max_mm_min", limits.feed_max_m_s * 6e4}}},
+                    {"runs", schedule.runs},
+                    {"lines_with_feed", schedule.lines.size()},
+                    {"lines_changed", changed},
+                    {"lines_slowed", slowed},
+                    {"lines_sped_up", changed - slowed},
+                    {"max_before", loads_json(schedule.max_before)},
+                    {"max_after", loads_json(schedule.max_after)},
+                    {"changes", lines},
+                    {"note",
+                     "loads per line as measured on runs of the whole program at the chosen "
+                     "spindle speeds and redundancy angle: 'before' at the programmed feed, "
+                     "'after' at the chosen one; a line under every cap keeps its feed unless "
+                     "feed_max lets it run faster"}};
+    message += fmt::format(
+        "  optimize: feeds of {} of {} lines changed ({} slowed, {} sped up) in {} runs of the "
+        "program\n",
+        changed, schedule.lines.size(), slowed, changed - slowed, schedule.runs);
   }
-  io::ToolpathSettings again = settings;
-  again.file = scratch_file;
-  toolpath::Program rewritten;
-  try {
-    rewritten = io::read_program(again);
-  } catch (...) {
-    std::error_code ignored;
-    std::filesystem::remove(scratch_file, ignored);
-    throw;
+
+  if (edits.empty() && feeds.empty() && !psi_changed) {
+    out["changed"] = false;
+    out["note"] =
+        "no speed in the range raises the smallest margin without putting a safe sample at "
+        "risk, and every feed is within the limits: the program is kept";
+    message += "  optimize: nothing to change; the program is kept\n";
+    return out;
   }
-  std::error_code ignored;
-  std::filesystem::remove(scratch_file, ignored);
-  if (rewritten.moves.size() != program.moves.size())
-    throw Error(fmt::format("the written program reads back as {} moves, the original as {}",
-                            rewritten.moves.size(), program.moves.size()));
+
+  // The program written back in its dialect, read back by its reader (every
+  // move's feed and speed checked against the schedule), and analysed again.
+  const bool written_changes = !edits.empty() || !feeds.empty();
+  const std::string written =
+      written_changes ? io::write_program_edits(text, settings.format, edits, feeds) : text;
+  const toolpath::Program rewritten =
+      read_back(settings, written, scratch_file, program.moves.size());
+  for (std::size_t m = 0; m < rewritten.moves.size(); ++m) {
+    const toolpath::Move& got = rewritten.moves[m];
+    const toolpath::Move& want = with_speeds.moves[m];
+    const double feed_m_s = want.feed_m_s * feed_scale[m];
+    if (std::abs(got.feed_m_s - feed_m_s) > 1e-5 * feed_m_s + 1e-12 ||
+        got.spindle_rad_s != want.spindle_rad_s)
+      throw Error(fmt::format(
+          "the written program's line {} (original line {}) reads back at {:.6g} mm/min and "
+          "{:.6g} rpm, not the chosen {:.6g} mm/min and {:.6g} rpm; nothing was written",
+          got.line, want.line, got.feed_m_s * 6e4, got.spindle_rad_s * kRpmPerRadS, feed_m_s * 6e4,
+          want.spindle_rad_s * kRpmPerRadS));
+  }
 
   toolpath::DexelStock stock = make_stock(job);
-  const toolpath::ProgramAnalysisSettings analysis_settings =
-      program_analysis_settings(settings, threads, name);
   toolpath::RobotAlongPath after(*setup.model, setup.structure, tooling, *job.cutting,
                                  setup.stability, after_settings);
   std::vector<toolpath::RobotSample> block_out;
   std::size_t index = 0, newly_at_risk = 0, relieved = 0;
   int first_newly_at_risk_line = 0;
+  toolpath::MoveLoads loads_after;
   const toolpath::ProgramAnalysis analysis = toolpath::analyse_program(
       rewritten, tooling, *job.cutting, stock, analysis_settings,
       [&](std::span<const toolpath::PathSample> block) {
         block_out.resize(block.size());
         after.evaluate(block, block_out);
         for (std::size_t i = 0; i < block.size(); ++i, ++index) {
-          const unsigned char was = index < record.at_risk.size() ? record.at_risk[index] : 2;
           const toolpath::RobotSample& r = block_out[i];
+          if (r.reachable && block[i].kind != toolpath::MotionKind::rapid)
+            loads_after.deflection_m = std::max(loads_after.deflection_m, r.deflection_m.norm());
+          const unsigned char was = index < record.at_risk.size() ? record.at_risk[index] : 2;
           if (!r.stability || was == 2)
             continue;
           if (r.at_risk && was == 0) {
@@ -540,22 +704,27 @@ nlohmann::json optimize_program(const io::Job& job, const toolpath::Program& pro
       {"fraction_at_risk",
        r.stability_samples > 0 ? static_cast<double>(r.at_risk) / r.stability_samples : 0.0},
       {"max_form_error_um", r.max_form_error_m * 1e6},
+      {"max_force_N", analysis.max_force_n},
+      {"max_torque_Nm", analysis.max_torque_nm},
+      {"max_deflection_um", loads_after.deflection_m * 1e6},
       {"cycle_time_s", cycle_after_s}};
   out["cycle_time_before_s"] = cycle_time_before_s;
   out["samples_newly_at_risk"] = newly_at_risk;
   out["first_newly_at_risk_line"] = first_newly_at_risk_line;
   out["samples_relieved"] = relieved;
   out["samples_compared"] = index;
+  out["samples_before"] = first_pass.samples;
   out["after"]["redundancy_deg"] = after_settings.redundancy_rad * kDegPerRad;
-  if (!edits_written)
+  if (!written_changes)
     out["program"] = nullptr;  // only ψ changed: the program itself is the same
   else
     result.texts.emplace_back(name, written);
   message += fmt::format(
-      "  optimize: {} written; chatter samples {} -> {}, min margin -> {:.2f}, {} samples no "
-      "longer "
-      "at risk, {} newly at risk\n",
-      name, before.summary().chatter, r.chatter, r.min_margin, relieved, newly_at_risk);
+      "  optimize: {}; chatter samples {} -> {}, min margin -> {:.2f}, {} samples no longer at "
+      "risk, {} newly at risk; cycle time {:.1f} -> {:.1f} s\n",
+      written_changes ? name + " written" : std::string("the program is kept"),
+      before.summary().chatter, r.chatter, r.min_margin, relieved, newly_at_risk,
+      cycle_time_before_s, cycle_after_s);
   return out;
 }
 
@@ -611,10 +780,11 @@ CommandResult compute_toolpath(const io::Job& job, int threads,
     throw InputError("toolpath", settings.line,
                      "--optimize needs the robot on the program: a robot: section and "
                      "workpiece.pose");
-  if (optimize && robot_setup->stability.advice_speeds_rad_s.empty())
+  if (optimize && robot_setup->stability.advice_speeds_rad_s.empty() &&
+      !(job.robot_path && job.robot_path->feed_limits))
     throw InputError("stability.speeds", 0,
                      "--optimize needs the spindle range it may choose from (stability.speeds: "
-                     "{from, to, count})");
+                     "{from, to, count}) or the feed's caps (robot_path.feed_limits)");
   OptimizationRecord optimization;
 
   io::CsvTable samples = sample_table(dof);
@@ -761,7 +931,7 @@ CommandResult compute_toolpath(const io::Job& job, int threads,
     const std::filesystem::path scratch =
         samples_file.empty() ? std::filesystem::temp_directory_path() : samples_file.parent_path();
     summary["optimization"] =
-        optimize_program(job, program, tooling, *robot_setup, *robot, optimization, cycle_time_s,
+        optimize_program(job, program, tooling, *robot_setup, *robot, optimization, analysis,
                          scratch, threads, result, robot_text);
   }
   if (samples_file.empty())

@@ -243,12 +243,17 @@ def surface(job, threads: int = 0, out: Optional[PathLike] = None) -> dict:
     return _result(_robomill.surface(_job(job), _threads(threads), _out(out)))
 
 
-def toolpath(job, threads: int = 0, out: Optional[PathLike] = None) -> dict:
+def toolpath(job, threads: int = 0, out: Optional[PathLike] = None,
+             optimize: bool = False) -> dict:
     """``robomill toolpath``: the program over the stock → "samples" (one NumPy
     array per column of samples.csv; "motion" a list of words), "moves",
     "stock" (the final height map), "samples_preview" and the totals in
-    "summary" (cutting_time_s, volume_removed_mm3, max_force_N, ...)."""
-    return _result(_robomill.toolpath(_job(job), _threads(threads), _out(out)))
+    "summary" (cutting_time_s, volume_removed_mm3, max_force_N, ...). With a
+    robot on the program and ``optimize=True`` (``--optimize``): the better
+    program as the text "program_optimized.<ext>" and the choices (ψ, spindle
+    speeds, feeds under ``robot_path.feed_limits``) with the re-run's numbers
+    in summary["optimization"]."""
+    return _result(_robomill.toolpath(_job(job), _threads(threads), _out(out), bool(optimize)))
 
 
 def listen(job, threads: int = 0, out: Optional[PathLike] = None) -> dict:

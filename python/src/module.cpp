@@ -253,14 +253,16 @@ PYBIND11_MODULE(_robomill, m) {
   job_command("surface", robomill::app::compute_surface);
   m.def(
       "toolpath",
-      [](const JobHandle& handle, int threads, const Out& out) {
+      [](const JobHandle& handle, int threads, const Out& out, bool optimize) {
         const robomill::io::Job& job = job_of(handle);
         // In memory: the samples come back as arrays (the command line
         // streams them to samples.csv instead).
-        return run([&] { return robomill::app::compute_toolpath(job, threads); }, out, job.output,
-                   &job);
+        return run(
+            [&] { return robomill::app::compute_toolpath(job, threads, {}, false, optimize); }, out,
+            job.output, &job);
       },
-      py::arg("job"), py::arg("threads") = 0, py::arg("out") = py::none());
+      py::arg("job"), py::arg("threads") = 0, py::arg("out") = py::none(),
+      py::arg("optimize") = false);
   job_command("listen", [](const robomill::io::Job& job, int threads) {
     return robomill::app::compute_listen(job, threads);
   });

@@ -283,6 +283,18 @@ def test_toolpath_with_a_robot_gives_margins_and_postures(source):
     assert samples["q6_deg"].shape == margin.shape and np.all(np.isfinite(samples["q1_deg"]))
 
 
+def test_toolpath_optimize_caps_the_feeds_and_returns_the_program(source):
+    # --optimize from Python: the program written back comes as a text, and
+    # the re-run of it keeps every load under robot_path.feed_limits.
+    result = robomill.toolpath(source / "examples" / "toolpath_robot_pocket.yaml", optimize=True)
+    optimization = result["summary"]["optimization"]
+    limits = optimization["feeds"]["limits"]
+    assert optimization["feeds"]["lines_changed"] > 0
+    assert optimization["after"]["max_force_N"] <= limits["force_max_N"] * (1 + 1e-6)
+    assert optimization["after"]["max_deflection_um"] <= limits["deflection_max_um"] * (1 + 1e-6)
+    assert "(robomill: feed " in result["program_optimized.nc"]
+
+
 def test_toolpath_refuses_a_program_by_line_and_word(source):
     job = robomill.Job(source / "examples" / "toolpath_pocket_gcode.yaml",
                        {"toolpath.file": str(source / "tests" / "cli" / "programs" /

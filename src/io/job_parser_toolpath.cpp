@@ -181,6 +181,33 @@ void read_robot_path(SectionReader& root, Job& job) {
     for (int i = 0; i < count; ++i)
       s.redundancy_search_rad.push_back(count == 1 ? from : from + (to - from) * i / (count - 1));
   }
+  if (auto limits = r.section("feed_limits")) {
+    limits->allow_schema("robot_path.feed_limits");
+    RobotPathJobSettings::FeedLimits l;
+    l.line = limits->line();
+    const QuantityField feed = field(dimensions::speed, kMm / 60.0, "mm/min", kPositive);
+    l.force_max_n =
+        limits->quantity_or("force_max", field(dimensions::force, 1.0, "N", kPositive), 0.0);
+    l.torque_max_nm =
+        limits->quantity_or("torque_max", field(dimensions::torque, 1.0, "N*m", kPositive), 0.0);
+    l.deflection_max_m = limits->quantity_or("deflection_max",
+                                             field(dimensions::length, 1e-6, "um", kPositive), 0.0);
+    l.joint_speed_max_rad_s = limits->quantity_or(
+        "joint_speed_max", field(dimensions::angular_speed, kDeg, "deg/s", kPositive), 0.0);
+    l.feed_min_m_s = limits->quantity_or("feed_min", feed, 0.0);
+    l.feed_max_m_s = limits->quantity_or("feed_max", feed, 0.0);
+    if (l.force_max_n == 0.0 && l.torque_max_nm == 0.0 && l.deflection_max_m == 0.0 &&
+        l.joint_speed_max_rad_s == 0.0)
+      limits->fail("force_max",
+                   "give at least one cap: force_max, torque_max, deflection_max "
+                   "or joint_speed_max");
+    if (l.feed_max_m_s > 0.0 && l.feed_max_m_s < l.feed_min_m_s)
+      limits->fail("feed_max", fmt::format("must be at least feed_min ({:g} mm/min), got {:g} "
+                                           "mm/min",
+                                           l.feed_min_m_s * 6e4, l.feed_max_m_s * 6e4));
+    limits->finish();
+    s.feed_limits = l;
+  }
   r.finish();
   job.robot_path = s;
 }

@@ -3,61 +3,255 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
+#include <charconv>
 #include <cmath>
 #include <numbers>
+#include <optional>
 
 #include "robomill/core/error.hpp"
 
 namespace robomill::io {
 namespace {
 
-std::string statement(const SpindleEdit& edit, ToolpathSettings::Format format,
-                      std::string_view newline) {
+using Format = ToolpathSettings::Format;
+
+std::string gcode_comment(std::string comment) {
+  std::replace(comment.begin(), comment.end(), '(', '[');
+  std::replace(comment.begin(), comment.end(), ')', ']');
+  return comment;
+}
+
+std::string spindle_statement(const SpindleEdit& edit, Format format, std::string_view newline) {
   const double rpm = std::abs(edit.spindle_rad_s) * 60.0 / (2.0 * std::numbers::pi);
-  if (format == ToolpathSettings::Format::apt) {
+  if (format == Format::apt) {
     return fmt::format("$$ {}{}SPINDL/RPM,{:.0f},{}{}", edit.comment, newline, rpm,
                        edit.spindle_rad_s < 0.0 ? "CCLW" : "CLW", newline);
   }
-  std::string comment = edit.comment;
-  std::replace(comment.begin(), comment.end(), '(', '[');
-  std::replace(comment.begin(), comment.end(), ')', ']');
-  return fmt::format("S{:.0f} ({}){}", rpm, comment, newline);
+  return fmt::format("S{:.0f} ({}){}", rpm, gcode_comment(edit.comment), newline);
+}
+
+// A feed value as the dialects write numbers: six significant digits, never
+// an exponent, no trailing zeros.
+std::string number(double value) {
+  std::string text =
+      value >= 1e-4 && value < 1e6 ? fmt::format("{:.6g}", value) : fmt::format("{:.6f}", value);
+  if (text.find('e') == std::string::npos && text.find('.') != std::string::npos) {
+    while (text.back() == '0')
+      text.pop_back();
+    if (text.back() == '.')
+      text.pop_back();
+  }
+  return text;
+}
+
+// Where a line's G-code F word's number lies, outside comments: ( … ), ; …
+// and O-word names < … >. `expression` when F is followed by [ or #.
+struct FeedWord {
+  std::size_t begin = 0, end = 0;
+  double value = 0.0;
+  bool expression = false;
+};
+
+std::optional<FeedWord> gcode_feed_word(std::string_view line) {
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (c == ';')
+      return std::nullopt;
+    if (c == '(' || c == '<') {
+      const std::size_t close = line.find(c == '(' ? ')' : '>', i + 1);
+      if (close == std::string_view::npos)
+        return std::nullopt;
+      i = close;
+      continue;
+    }
+    if (c != 'F' && c != 'f')
+      continue;
+    std::size_t j = i + 1;
+    while (j < line.size() && (line[j] == ' ' || line[j] == '\t'))
+      ++j;
+    FeedWord word;
+    if (j < line.size() && (line[j] == '[' || line[j] == '#')) {
+      word.expression = true;
+      return word;
+    }
+    std::size_t k = j;
+    if (k < line.size() && (line[k] == '+' || line[k] == '-'))
+      ++k;
+    while (k < line.size() && (std::isdigit(static_cast<unsigned char>(line[k])) || line[k] == '.'))
+      ++k;
+    std::string digits(line.substr(j, k - j));
+    if (!digits.empty() && digits.front() == '+')
+      digits.erase(0, 1);
+    const auto [end, error] =
+        std::from_chars(digits.data(), digits.data() + digits.size(), word.value);
+    if (error != std::errc() || end != digits.data() + digits.size())
+      return std::nullopt;
+    word.begin = j;
+    word.end = k;
+    return word;
+  }
+  return std::nullopt;
+}
+
+std::string_view trimmed(std::string_view text) {
+  while (!text.empty() && std::isspace(static_cast<unsigned char>(text.front())))
+    text.remove_prefix(1);
+  while (!text.empty() && std::isspace(static_cast<unsigned char>(text.back())))
+    text.remove_suffix(1);
+  return text;
+}
+
+bool starts_with_word(std::string_view text, std::string_view word) {
+  text = trimmed(text);
+  if (text.size() < word.size())
+    return false;
+  for (std::size_t i = 0; i < word.size(); ++i)
+    if (std::toupper(static_cast<unsigned char>(text[i])) != word[i])
+      return false;
+  return text.size() == word.size() || text[word.size()] == '/' || text[word.size()] == ' ';
+}
+
+// An APT FEDRAT record with its number multiplied by `scale` (FEDRAT/MMPM,250,
+// FEDRAT/742.7,MMPM, FEDRAT/250 alike).
+std::string scaled_fedrat(std::string_view record, double scale, int line) {
+  const std::size_t slash = record.find('/');
+  std::size_t start = slash == std::string_view::npos ? record.size() : slash + 1;
+  while (start < record.size()) {
+    std::size_t stop = record.find(',', start);
+    if (stop == std::string_view::npos)
+      stop = record.size();
+    const std::string_view token = trimmed(record.substr(start, stop - start));
+    double value = 0.0;
+    const auto [end, error] = std::from_chars(token.data(), token.data() + token.size(), value);
+    if (error == std::errc() && end == token.data() + token.size() && !token.empty()) {
+      const std::size_t at = record.find(token, start);
+      return std::string(record.substr(0, at)) + number(value * scale) +
+             std::string(record.substr(at + token.size()));
+    }
+    start = stop + 1;
+  }
+  throw InputError("toolpath.file", 0,
+                   fmt::format("program line {}: the FEDRAT in force ('{}') has no number to "
+                               "rescale",
+                               line, record));
 }
 
 }  // namespace
 
 std::string write_spindle_edits(std::string_view text, ToolpathSettings::Format format,
                                 std::vector<SpindleEdit> edits) {
-  if (format == ToolpathSettings::Format::krl)
+  return write_program_edits(text, format, std::move(edits), {});
+}
+
+std::string write_program_edits(std::string_view text, ToolpathSettings::Format format,
+                                std::vector<SpindleEdit> spindles, std::vector<FeedEdit> feeds) {
+  if (format == Format::krl && !spindles.empty())
     throw InputError("toolpath.format", 0,
                      "KRL programs carry no spindle speed (the cell's PLC sets it): robomill "
                      "reports the chosen speeds but cannot write them into the .src");
-  std::stable_sort(edits.begin(), edits.end(), [](const SpindleEdit& a, const SpindleEdit& b) {
-    return a.before_line < b.before_line;
-  });
+  std::stable_sort(
+      spindles.begin(), spindles.end(),
+      [](const SpindleEdit& a, const SpindleEdit& b) { return a.before_line < b.before_line; });
+  std::stable_sort(feeds.begin(), feeds.end(),
+                   [](const FeedEdit& a, const FeedEdit& b) { return a.line < b.line; });
   // Keep the file's own line ends (CR LF from Windows posts).
   const std::string_view newline =
       text.find("\r\n") != std::string_view::npos ? std::string_view("\r\n") : "\n";
   std::string out;
-  out.reserve(text.size() + 96 * edits.size());
-  std::size_t next = 0;
+  out.reserve(text.size() + 96 * (spindles.size() + feeds.size()));
+  std::size_t next_spindle = 0, next_feed = 0;
+  // The feed word in force in the original program: G-code's F number (and
+  // whether it was an expression), APT's FEDRAT record.
+  std::optional<double> gcode_feed;
+  bool gcode_feed_expression = false;
+  std::string apt_fedrat;
+
+  auto feed_missing = [&](int line, std::string_view what) {
+    throw InputError(
+        "toolpath.file", 0,
+        fmt::format("program line {}: {}: robomill cannot rescale its feed", line, what));
+  };
   int line = 1;
   std::size_t position = 0;
   while (position <= text.size()) {
-    while (next < edits.size() && edits[next].before_line <= line)
-      out += statement(edits[next++], format, newline);
-    if (position == text.size())
+    while (next_spindle < spindles.size() && spindles[next_spindle].before_line <= line)
+      out += spindle_statement(spindles[next_spindle++], format, newline);
+    if (position == text.size()) {
+      while (next_feed < feeds.size() && feeds[next_feed].line < line)
+        ++next_feed;
       break;
+    }
     const std::size_t end = text.find('\n', position);
     const std::size_t stop = end == std::string_view::npos ? text.size() : end + 1;
-    out.append(text.substr(position, stop - position));
+    std::string_view content = text.substr(position, stop - position);
+    std::string_view body = content;  // without the line end
+    while (!body.empty() && (body.back() == '\n' || body.back() == '\r'))
+      body.remove_suffix(1);
+    const std::string_view line_end = content.substr(body.size());
+
+    std::optional<FeedWord> own_feed;
+    if (format == Format::gcode)
+      own_feed = gcode_feed_word(body);
+    while (next_feed < feeds.size() && feeds[next_feed].line < line)
+      ++next_feed;
+    const FeedEdit* edit =
+        next_feed < feeds.size() && feeds[next_feed].line == line ? &feeds[next_feed] : nullptr;
+    bool written = false;
+    if (edit) {
+      const bool restore = edit->scale == 1.0;
+      switch (format) {
+        case Format::gcode:
+          if (own_feed && own_feed->expression)
+            feed_missing(line, "its F word is an expression");
+          if (own_feed && !restore) {
+            out.append(body.substr(0, own_feed->begin));
+            out += number(own_feed->value * edit->scale);
+            out.append(body.substr(own_feed->end));
+            out += fmt::format(" ({})", gcode_comment(edit->comment));
+            out.append(line_end);
+            written = true;
+          } else if (!own_feed) {
+            if (gcode_feed_expression)
+              feed_missing(line, "the F in force is an expression");
+            if (!gcode_feed)
+              feed_missing(line, "no F word is in force before it");
+            out += restore ? fmt::format("F{}{}", number(*gcode_feed), newline)
+                           : fmt::format("F{} ({}){}", number(*gcode_feed * edit->scale),
+                                         gcode_comment(edit->comment), newline);
+          }
+          break;
+        case Format::apt:
+          if (apt_fedrat.empty())
+            feed_missing(line, "no FEDRAT is in force before it");
+          if (!edit->comment.empty())
+            out += fmt::format("$$ {}{}", edit->comment, newline);
+          out += (restore ? apt_fedrat : scaled_fedrat(apt_fedrat, edit->scale, line)) +
+                 std::string(newline);
+          break;
+        case Format::krl:
+          if (!(edit->programmed_m_s > 0.0))
+            feed_missing(line, "no path speed ($VEL.CP) is known for it");
+          out += fmt::format("$VEL.CP={}{}{}", number(edit->programmed_m_s * edit->scale),
+                             edit->comment.empty() ? "" : " ; " + edit->comment, newline);
+          break;
+      }
+    }
+    if (!written)
+      out.append(content);
+    if (own_feed) {
+      gcode_feed_expression = own_feed->expression;
+      gcode_feed = own_feed->value;
+    }
+    if (format == Format::apt && starts_with_word(body, "FEDRAT"))
+      apt_fedrat = std::string(trimmed(body));
     position = stop;
     ++line;
-    if (end == std::string_view::npos && next < edits.size())
+    if (end == std::string_view::npos && next_spindle < spindles.size())
       out += newline;  // a last line without its line end
   }
-  while (next < edits.size())
-    out += statement(edits[next++], format, newline);
+  while (next_spindle < spindles.size())
+    out += spindle_statement(spindles[next_spindle++], format, newline);
   return out;
 }
 

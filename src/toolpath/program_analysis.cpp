@@ -232,7 +232,10 @@ ProgramAnalysis analyse_program(const Program& program, const Tooling& tooling,
     const double revolutions_per_s = spindle_rad_s / kTwoPi;
     const double feed_per_tooth_m =
         spindle_rad_s > 0.0 ? move.feed_m_s / (tool.teeth() * revolutions_per_s) : 0.0;
-    const double spacing_m = settings.sample_spacing_m > 0.0
+    const double move_spacing_m =
+        m < settings.move_spacing_m.size() ? settings.move_spacing_m[m] : 0.0;
+    const double spacing_m = move_spacing_m > 0.0 ? move_spacing_m
+                             : settings.sample_spacing_m > 0.0
                                  ? settings.sample_spacing_m
                                  : default_sample_spacing_m(feed_per_tooth_m, stock.resolution_m());
     // Until the first feed move the cutter's position is not known: a program
@@ -244,6 +247,7 @@ ProgramAnalysis analyse_program(const Program& program, const Tooling& tooling,
     if (!approached && move.kind == MotionKind::rapid)
       continue;
     approached = true;
+    totals.spacing_m = spacing_m;
     const std::size_t steps = std::max<std::size_t>(
         1, static_cast<std::size_t>(std::ceil(totals.length_m / spacing_m - 1e-9)));
     const double step_m = totals.length_m / static_cast<double>(steps);

@@ -93,7 +93,31 @@ awk -F': ' '/"chosen_rpm"/ { gsub(/,/, "", $2); v = $2 + 0; if (v < 4000 || v > 
   "$WORK/o/summary.json" || fail "a chosen speed outside stability.speeds"
 "$ROBOMILL" toolpath "$G" --set "toolpath.file=$WORK/o/program_optimized.nc" --out "$WORK/o2" --quiet \
   || fail "the optimized program does not read back"
-expect_exit2 "stability.speeds" toolpath "$R" --optimize --set 'stability={method: zoa, depth_max: 10}'
+# The feeds under robot_path.feed_limits: measured again on the written
+# program, every cap holds and every feed lies in [feed_min, feed_max]; the
+# lines changed carry their comment.
+/usr/bin/python3 - "$WORK/o/summary.json" "$WORK/o/program_optimized.nc" <<'PYEOF' || fail "--optimize feeds"
+import json, re, sys
+o = json.load(open(sys.argv[1]))["optimization"]
+feeds, after = o["feeds"], o["after"]
+limits = feeds["limits"]
+assert feeds["lines_changed"] > 0 and feeds["lines_slowed"] > 0, feeds
+assert after["max_force_N"] <= limits["force_max_N"] * (1 + 1e-6), after
+assert after["max_deflection_um"] <= limits["deflection_max_um"] * (1 + 1e-6), after
+assert feeds["max_after"]["joint_speed_deg_s"] <= limits["joint_speed_max_deg_s"] * (1 + 1e-9)
+for change in feeds["changes"]:
+    assert limits["feed_min_mm_min"] - 1e-6 <= change["chosen_mm_min"] <= limits["feed_max_mm_min"] + 1e-6
+text = open(sys.argv[2]).read()
+assert len(re.findall(r"\(robomill: feed \d+ -> \d+ mm/min", text)) == feeds["lines_changed"], text
+assert o["samples_compared"] == o["samples_before"], o
+PYEOF
+# A cap no feed can meet: an error naming the program line, nothing written.
+expect_exit2 "no feed satisfies the limits" toolpath "$R" --optimize \
+  --set 'robot_path.feed_limits={force_max: 20 N, feed_min: 200 mm/min}'
+expect_exit2 "robot_path.feed_limits.feed_max" toolpath "$R" --optimize \
+  --set 'robot_path.feed_limits={force_max: 100 N, feed_min: 200 mm/min, feed_max: 100 mm/min}'
+expect_exit2 "stability.speeds" toolpath "$R" --optimize --set 'stability={method: zoa, depth_max: 10}' \
+  --set 'robot_path.feed_limits=null'
 expect_exit2 "needs the robot" toolpath "$G" --optimize
 # The part out of the robot's reach, a robot_path without a pose.
 expect_exit2 "reaches no sample" toolpath "$R" --set "workpiece.table=[9000, 0, 500]" \

@@ -307,6 +307,18 @@ struct RobotPathJobSettings {
   /// `redundancy_search: {from, to, count}` (deg): the angles --optimize
   /// tries for the whole program; empty: ψ stays.
   std::vector<double> redundancy_search_rad;
+  /// `feed_limits:` — the caps `--optimize` keeps every line's feed under
+  /// (toolpath/feed_schedule.hpp); 0: no cap.
+  struct FeedLimits {
+    double force_max_n = 0.0;            ///< `force_max` (N): peak |F| on the tool
+    double torque_max_nm = 0.0;          ///< `torque_max` (N*m): peak spindle torque
+    double deflection_max_m = 0.0;       ///< `deflection_max` (um): |tool-tip deflection|
+    double joint_speed_max_rad_s = 0.0;  ///< `joint_speed_max` (deg/s): every joint
+    double feed_min_m_s = 0.0;           ///< `feed_min` (mm/min)
+    double feed_max_m_s = 0.0;           ///< `feed_max` (mm/min); 0: never faster than programmed
+    int line = 0;
+  };
+  std::optional<FeedLimits> feed_limits;
   int line = 0;
 };
 

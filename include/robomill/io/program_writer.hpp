@@ -1,8 +1,9 @@
 #pragma once
 // A program written back in its own dialect with robomill's changes
 // (`robomill toolpath JOB --optimize`, issue 19 item 5): statements inserted
-// before given lines of the original text, each with a comment that names
-// the change, everything else byte for byte as the CAM post wrote it.
+// before given lines of the original text, or a line's own feed word
+// rescaled, each with a comment that names the change, everything else byte
+// for byte as the CAM post wrote it.
 
 #include <string>
 #include <string_view>
@@ -20,6 +21,19 @@ struct SpindleEdit {
   std::string comment;
 };
 
+/// The feed of one program line (1-based) multiplied by `scale`, in the
+/// program's own units and feed mode (the feed word in force is rescaled, so
+/// inch programs, G95 feeds per revolution and FEDRAT/IPM stay what they
+/// were). The line after the last of a run of edited lines gets the feed in
+/// force in the original program back.
+struct FeedEdit {
+  int line = 0;
+  double scale = 1.0;  ///< 1: the original feed in force, restored before this line
+  /// The line's programmed path speed (m/s): KRL writes $VEL.CP absolute.
+  double programmed_m_s = 0.0;
+  std::string comment;
+};
+
 /// G-code: a block `S<rpm> (<COMMENT>)` (the M3/M4 in force keeps the
 /// direction); APT: `$$ <comment>` then `SPINDL/RPM,<rpm>,CLW|CCLW`. KRL
 /// programs set no spindle speed (the cell's PLC does): InputError naming
@@ -27,5 +41,20 @@ struct SpindleEdit {
 /// (parentheses in G-code).
 std::string write_spindle_edits(std::string_view text, ToolpathSettings::Format format,
                                 std::vector<SpindleEdit> edits);
+
+/// Both kinds of change in one pass. Feeds:
+///  - G-code: the line's own F word rescaled, with `(comment)` appended; a
+///    line without one gets a block `F<f> (comment)` before it, the F in
+///    force rescaled. The restore is a block `F<f>` with the F in force.
+///  - APT: `$$ comment` and the FEDRAT record in force with its number
+///    rescaled before the line; the restore repeats that record as written.
+///  - KRL: `$VEL.CP=<m/s> ; comment` before the line (after any inline
+///    form's BAS call, so it governs the motion): the edit's scale times its
+///    `programmed_m_s`; the restore sets the programmed path speed back.
+/// Throws InputError (field `toolpath.file`, the program line) where a feed
+/// cannot be rescaled as written: a G-code F written as an expression, no
+/// feed word in force before the line.
+std::string write_program_edits(std::string_view text, ToolpathSettings::Format format,
+                                std::vector<SpindleEdit> spindles, std::vector<FeedEdit> feeds);
 
 }  // namespace robomill::io

@@ -11,6 +11,7 @@
 
 #include "robomill/io/job.hpp"
 #include "robomill/robot/robot_model.hpp"
+#include "robomill/toolpath/feed_schedule.hpp"
 #include "robomill/toolpath/robot_along_path.hpp"
 
 namespace robomill::io {
@@ -33,5 +34,8 @@ Eigen::Isometry3d workpiece_to_cell(const WorkpieceSettings& workpiece);
 /// robot or a workpiece pose, a robot without a posture to start from, a
 /// structure that cannot be had at every posture).
 std::optional<RobotPathSetup> robot_path_setup(const Job& job, int threads);
+
+/// `robot_path.feed_limits` as the feed schedule takes them (SI already).
+toolpath::FeedLimits feed_limits(const RobotPathJobSettings::FeedLimits& job);
 
 }  // namespace robomill::io

@@ -36,6 +36,11 @@ struct ProgramAnalysisSettings {
   /// Distance between samples along a move (m); every move's ends are
   /// sampled too. 0: a few feeds per tooth, at least half the stock resolution.
   double sample_spacing_m = 0.0;
+  /// Per move (index into Program::moves): the spacing of that move where
+  /// > 0, over sample_spacing_m. A re-run of a changed program (another
+  /// feed or spindle speed, which move the default spacing) then samples
+  /// where the first run did, so the two compare sample by sample.
+  std::vector<double> move_spacing_m;
   double rapid_speed_m_s = 0.5;  ///< traverse speed for the air time (30 m/min)
   /// Spindle speed for moves whose program gave none (rad/s; KRL programs
   /// rarely do); 0: such a move in material is an error.
@@ -84,6 +89,7 @@ struct MoveTotals {
   MotionKind kind = MotionKind::linear;
   double length_m = 0.0, time_s = 0.0;
   double feed_m_s = 0.0, spindle_rad_s = 0.0;
+  double spacing_m = 0.0;  ///< sample spacing used along the move (0: not sampled)
   bool tool_described = true;
   int samples = 0, engaged_samples = 0;
   double removed_m3 = 0.0;  ///< section × feed integrated over the move
