@@ -90,7 +90,7 @@ io::CsvTable sample_table(int dof = 0) {
     for (const char* c :
          {"reachable", "joint_margin_deg", "singularity", "ap_limit_mm", "margin", "chatter",
           "at_risk", "chatter_freq_hz", "dev_x_um", "dev_y_um", "dev_z_um", "deflection_um",
-          "form_error_um", "floor_error_um", "dynamics_recomputed"})
+          "form_error_um", "floor_error_um", "dynamics_recomputed", "contact"})
       columns.emplace_back(c);
   }
   return io::CsvTable(columns);
@@ -152,6 +152,7 @@ void add_sample(io::CsvTable& table, const toolpath::PathSample& s,
     cells.emplace_back(bent && r.wall ? io::CsvTable::Cell(r.form_error_m * 1e6) : empty);
     cells.emplace_back(bent ? io::CsvTable::Cell(r.floor_error_m * 1e6) : empty);
     cells.emplace_back(limit ? io::CsvTable::Cell(r.exact ? 1.0 : 0.0) : empty);
+    cells.emplace_back(bent ? io::CsvTable::Cell(r.contact ? 1.0 : 0.0) : empty);
   }
   table.add_cells(cells);
 }
@@ -212,6 +213,8 @@ nlohmann::json robot_summary(const io::RobotPathSetup& setup, const toolpath::Ro
       {"min_margin", r.min_margin},
       {"min_margin_line", r.min_margin_line},
       {"max_form_error_um", r.max_form_error_m * 1e6},
+      {"deflection_model", setup.settings.contact.enabled ? "contact" : "static"},
+      {"contact_samples", r.contact_samples},
       {"max_form_error_line", r.max_form_error_line},
       {"max_floor_error_um", r.max_floor_error_m * 1e6},
       {"max_deflection_um", r.max_deflection_m * 1e6},

@@ -31,7 +31,10 @@ ContactProblem contact_problem(const DeflectionSetup& setup, double axial_depth_
         tool_node_compliance(heights, setup.overhang_m, setup.flexural_rigidity_n_m2);
   }
   if (setup.robot)
-    problem.compliance += robot_node_compliance(*setup.robot, setup.posture_rad, heights);
+    problem.compliance +=
+        setup.cut_frame
+            ? robot_node_compliance(*setup.robot, setup.posture_rad, heights, *setup.cut_frame)
+            : robot_node_compliance(*setup.robot, setup.posture_rad, heights);
   return problem;
 }
 

@@ -64,8 +64,13 @@ Eigen::MatrixXd tool_node_compliance(const std::vector<double>& node_heights_m, 
 
 Eigen::MatrixXd robot_node_compliance(const robot::RobotModel& robot, const Eigen::VectorXd& q,
                                       const std::vector<double>& node_heights_m) {
+  return robot_node_compliance(robot, q, node_heights_m, robot::tool_pose(robot, q).linear());
+}
+
+Eigen::MatrixXd robot_node_compliance(const robot::RobotModel& robot, const Eigen::VectorXd& q,
+                                      const std::vector<double>& node_heights_m,
+                                      const Eigen::Matrix3d& rotation) {
   const auto nodes = static_cast<Eigen::Index>(node_heights_m.size());
-  const Eigen::Matrix3d rotation = robot::tool_pose(robot, q).linear();
   const Eigen::VectorXd compliance = robot.joint_stiffness().cwiseInverse();
   // Linear rows of each node's point Jacobian, rotated into the tool frame
   // and keeping x and y: 2 × n per node.

@@ -347,6 +347,7 @@ constexpr Field kFields[] = {
   {"robot_path.redundancy_search", "from", K::quantity, "deg", "", "", "yes", "First angle."},
   {"robot_path.redundancy_search", "to", K::quantity, "deg", "> from when count > 1", "", "yes", "Last angle."},
   {"robot_path.redundancy_search", "count", K::integer, "", "1 … 721", "", "yes", "Angles, evenly spaced."},
+  {"robot_path", "deflection", K::choice, "", "static, contact", "static", "", "The deflection at each sample: `static`, the tip deflection under the mean force (robot compliance at the posture, 000 Eq 3, plus the tool as a cantilever, Eq 1); `contact`, 000's contact boundary (§4, Eq 20-31) where a sample finishes a down-milling wall with the linear law and a flat end mill — the node solution of `robomill deflection` at the sample's posture, feed and depths, with the job's `deflection:` settings (elements, chip_correction; the bending section is 0.8 × each cutter's diameter)."},
   {"robot_path", "feed_limits", K::map, "", "", "none", "", "The caps the feed of `--optimize` keeps (see `robot_path.feed_limits`)."},
   {"robot_path.feed_limits", "force_max", K::quantity, "N", "> 0", "none", "", "Peak |F| on the tool over a tooth period, at every sample."},
   {"robot_path.feed_limits", "torque_max", K::quantity, "N*m", "> 0", "none", "", "Peak spindle torque over a tooth period."},

@@ -151,6 +151,15 @@ std::optional<RobotPathSetup> robot_path_setup(const Job& job, int threads) {
     settings.check_every = r.check_every;
     settings.risk_margin = r.risk_margin;
     settings.worst_lines = static_cast<std::size_t>(r.worst_lines);
+    // 000's contact boundary with the settings `robomill deflection` takes
+    // from the job's deflection: section, so that a straight down-milling
+    // cut reduces to that command at the sample's posture (the bending
+    // section stays 0.8 × each cutter's diameter, as the note above says).
+    settings.contact.enabled = r.contact_deflection;
+    if (job.deflection) {
+      settings.contact.elements = job.deflection->elements;
+      settings.contact.chip_correction = job.deflection->chip_correction;
+    }
   }
   return setup;
 }

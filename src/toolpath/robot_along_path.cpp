@@ -12,8 +12,12 @@
 #include <numbers>
 #include <stdexcept>
 #include <tuple>
+#include <variant>
 
+#include "robomill/core/error.hpp"
 #include "robomill/core/parallel.hpp"
+#include "robomill/deflection/contact_boundary.hpp"
+#include "robomill/deflection/deformed_engagement.hpp"
 #include "robomill/deflection/node_compliance.hpp"
 #include "robomill/robot/joint_dynamics.hpp"
 #include "robomill/robot/kinematics.hpp"
@@ -233,6 +237,55 @@ void RobotAlongPath::deflect(const PathSample& sample, RobotSample& out) const {
   else if (band == Band::slot)
     out.form_error_m = lateral_y;  // one wall leaves what the other takes
   out.floor_error_m = out.deflection_m.dot(frame.col(2));
+  if (settings_.contact.enabled && band == Band::down && !sample.plunge)
+    contact_deflect(sample, *tool, frame, out);
+}
+
+// 000 §4's contact boundary at a down-milling wall: the setup of `robomill
+// deflection` (io/deformation.cpp) with the sample's feed, radial depth and
+// posture, the robot's compliance in the sample's milling frame. Node k
+// generates the wall at height z_k (position K = k); ae,k = ae − ΔY,k (Eq
+// 26), so ΔY > 0 leaves material, as the static form error's sign does.
+void RobotAlongPath::contact_deflect(const PathSample& sample, const tool::Tool& tool,
+                                     const Eigen::Matrix3d& frame, RobotSample& out) const {
+  const auto* linear = std::get_if<cutting::LinearLaw>(&law_);
+  const double radius = 0.5 * tool.diameter_m();
+  if (!linear || tool.type() != tool::ToolType::flat || !(sample.radial_width_m > 0.0) ||
+      !(sample.radial_width_m < 2.0 * radius) || !(sample.axial_depth_m > 0.0) ||
+      !(sample.feed_per_tooth_m > 0.0))
+    return;
+  deflection::DeflectionSetup setup;
+  setup.tool_radius_m = radius;
+  setup.helix_rad = tool.helix_rad();
+  setup.overhang_m = tool.overhang_m();
+  setup.flexural_rigidity_n_m2 = deflection::flexural_rigidity_n_m2(
+      tool.youngs_modulus_pa(), settings_.equivalent_diameter_fraction * tool.diameter_m());
+  setup.feed_per_tooth_m = sample.feed_per_tooth_m;
+  setup.radial_depth_m = sample.radial_width_m;
+  setup.law = *linear;
+  setup.elements = settings_.contact.elements;
+  setup.options.chip_correction = settings_.contact.chip_correction;
+  setup.robot = std::shared_ptr<const robot::RobotModel>(std::shared_ptr<void>(), &model_);
+  setup.posture_rad = out.q_rad;
+  setup.cut_frame = settings_.workpiece_to_cell.linear() * frame;
+  deflection::ContactBoundary boundary;
+  try {
+    boundary = deflection::solve_contact_boundary(
+        deflection::contact_problem(setup, std::min(sample.axial_depth_m, tool.overhang_m())),
+        setup.options);
+  } catch (const NumericalError&) {
+    return;  // no fixed point even relaxed: the static deflection stands
+  }
+  const Eigen::Vector2d tip = boundary.generating(1).deflection_m;
+  double worst = 0.0;
+  for (int k = 1; k <= static_cast<int>(boundary.positions.size()); ++k) {
+    const double dy = boundary.generating(k).deflection_m.y();
+    if (std::abs(dy) > std::abs(worst))
+      worst = dy;
+  }
+  out.deflection_m = frame * Eigen::Vector3d(tip.x(), tip.y(), out.floor_error_m);
+  out.form_error_m = worst;
+  out.contact = true;
 }
 
 Eigen::Matrix3d RobotAlongPath::mean_stiffness(const tool::Tool& tool,
@@ -441,6 +494,7 @@ void RobotAlongPath::evaluate(std::span<const PathSample> samples, std::span<Rob
 
 void RobotAlongPath::tally(const PathSample& s, const RobotSample& r) {
   ++summary_.samples;
+  summary_.contact_samples += r.contact ? 1 : 0;
   const bool in_material = s.analysed && s.kind != MotionKind::rapid;
   if (!r.reachable) {
     ++summary_.unreachable;

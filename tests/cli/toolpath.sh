@@ -80,6 +80,15 @@ for key in robot_along_path fraction_at_risk min_margin min_margin_line max_form
   grep -q "\"$key\"" "$WORK/r/summary.json" || fail "robot summary.json lacks $key"
 done
 grep -qi 'nan\|inf' "$WORK/r/samples.csv" "$WORK/r/summary.json" && fail "non-finite number written"
+# 000's contact boundary at the down-milling walls (robot_path.deflection).
+"$ROBOMILL" toolpath "$R" --out "$WORK/rc" --quiet --set robot_path.deflection=contact \
+  || fail "robot example with the contact deflection"
+grep -q '"deflection_model": "contact"' "$WORK/rc/summary.json" || fail "no deflection_model contact"
+contact=$(json_number "$WORK/rc/summary.json" robot_along_path contact_samples)
+[ "${contact:-0}" -gt 0 ] || fail "no sample by the contact boundary"
+awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) if ($i == "contact") c = i; if (!c) exit 1 }' \
+  "$WORK/rc/samples.csv" || fail "samples.csv lacks contact"
+expect_exit2 "static, contact" toolpath "$R" --set robot_path.deflection=nodes
 unreachable=$(json_number "$WORK/r/summary.json" robot_along_path unreachable_samples)
 [ "$unreachable" = "0" ] || fail "the example's part is out of reach: $unreachable samples"
 # --optimize: the spindle speeds written back, read back by the G-code reader,

@@ -11,6 +11,9 @@
 #include <cmath>
 #include <numbers>
 
+#include <fmt/format.h>
+
+#include "robomill/analysis/deflection_sweep.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/cutting/milling_forces.hpp"
 #include "robomill/io/job.hpp"
@@ -222,6 +225,59 @@ TEST(RobotAlongPath, DownMillingLeavesMaterialUpMillingTakesIt) {
       robot::translational_compliance(*f.setup.model, Eigen::VectorXd(out[0].q_rad));
   const double robot_only = (c * down.force_mean_n).y();
   EXPECT_GT(out[0].deflection_m.y(), robot_only);  // the tool adds, never cancels
+}
+
+TEST(RobotAlongPath, ContactDeflectionReducesToTheDeflectionCommandAtItsPosture) {
+  // robot_path.deflection: contact — at a straight down-milling wall the
+  // sample's deflection and form error are `robomill deflection`'s node
+  // solution (000 §4, analysis::deflection_sweep) for a job at the sample's
+  // posture, feed, ae and ap, to round-off. The feed runs along the tool
+  // frame's x at ψ = 0, so the two frames are the same (checked first).
+  const double ae = 2.5e-3, radius = 5e-3;
+  Fixture f("robot_path: {deflection: contact}\n");
+  RobotAlongPath along = f.along();
+  PathSample sample = side_cut_sample(30e-3, kPi - std::acos(1.0 - ae / radius), kPi);
+  sample.radial_width_m = ae;
+  std::vector<PathSample> samples = {sample};
+  std::vector<RobotSample> out(1);
+  along.evaluate(samples, out);
+  ASSERT_TRUE(out[0].reachable);
+  ASSERT_TRUE(out[0].contact);
+  const Eigen::VectorXd q(out[0].q_rad);
+  const Eigen::Matrix3d tool = robot::tool_pose(*f.setup.model, q).linear();
+  ASSERT_LT((tool - Eigen::Matrix3d::Identity()).norm(), 1e-9) << tool;
+
+  std::string posture = "[";
+  for (int j = 0; j < q.size(); ++j)
+    posture += fmt::format("{}{:.17g} deg", j ? ", " : "", q[j] * 180.0 / kPi);
+  const io::Job single = kr270_job(
+      "process: {spindle: 8000 rpm, feed_per_tooth: 0.05 mm, ap: 3 mm, ae: 2.5 mm, "
+      "direction: down}\n"
+      "deflection: {depths: {from: 3 mm, to: 4 mm, count: 1}}\n",
+      {{"robot.posture", posture + "]"}});
+  const analysis::DeflectionSweep sweep = analysis::deflection_sweep(single, 1);
+  ASSERT_EQ(sweep.boundaries.size(), 1u);
+  const deflection::ContactBoundary& boundary = sweep.boundaries.front();
+  double worst = 0.0;
+  for (int k = 1; k <= static_cast<int>(boundary.positions.size()); ++k) {
+    const double dy = boundary.generating(k).deflection_m.y();
+    worst = std::abs(dy) > std::abs(worst) ? dy : worst;
+  }
+  // Round-off here: the command's frame is the tool frame at q, the
+  // sample's the milling frame, equal to the IK's orientation tolerance
+  // (1e-9 rad; measured 1.2e-12 relative on the tip's x).
+  EXPECT_GT(worst, 0.0) << "down milling leaves material";
+  EXPECT_NEAR(out[0].form_error_m, worst, 1e-9 * std::abs(worst));
+  const Eigen::Vector2d tip = boundary.generating(1).deflection_m;
+  EXPECT_NEAR(out[0].deflection_m.x(), tip.x(), 1e-9 * tip.norm());
+  EXPECT_NEAR(out[0].deflection_m.y(), tip.y(), 1e-9 * tip.norm());
+  // The static model at the same sample, for the record: the same sign, a
+  // different model (a point load at mid-depth, the tip's deflection).
+  Fixture s;
+  RobotAlongPath static_along = s.along();
+  std::vector<RobotSample> static_out(1);
+  static_along.evaluate(samples, static_out);
+  EXPECT_FALSE(static_out[0].contact);
 }
 
 TEST(RobotAlongPath, PosturesReachTheTipWithTheRedundancyAngle) {

@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "robomill/deflection/contact_boundary.hpp"
@@ -30,6 +31,10 @@ struct DeflectionSetup {
   /// The robot and its posture (000 Eq 3); null: a rigid robot.
   std::shared_ptr<const robot::RobotModel> robot;
   Eigen::VectorXd posture_rad;
+  /// The cut's frame (columns feed x, normal y, axis z) in the robot's base
+  /// frame; none: the robot's tool frame at the posture (`robomill
+  /// deflection`, whose feed is the tool x).
+  std::optional<Eigen::Matrix3d> cut_frame;
   ContactOptions options;
 };
 

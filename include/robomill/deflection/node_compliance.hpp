@@ -50,4 +50,12 @@ Eigen::MatrixXd tool_node_compliance(const std::vector<double>& node_heights_m, 
 Eigen::MatrixXd robot_node_compliance(const robot::RobotModel& robot, const Eigen::VectorXd& q,
                                       const std::vector<double>& node_heights_m);
 
+/// The same with x and y taken from `frame` (columns x, y, z in the robot's
+/// base frame) instead of the tool frame: a cut whose feed is not the tool
+/// frame's x (a program's sample, toolpath/robot_along_path.hpp). The nodes
+/// stay on the tool axis, z_k above the tip.
+Eigen::MatrixXd robot_node_compliance(const robot::RobotModel& robot, const Eigen::VectorXd& q,
+                                      const std::vector<double>& node_heights_m,
+                                      const Eigen::Matrix3d& frame);
+
 }  // namespace robomill::deflection

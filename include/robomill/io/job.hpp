@@ -307,6 +307,10 @@ struct RobotPathJobSettings {
   /// `redundancy_search: {from, to, count}` (deg): the angles --optimize
   /// tries for the whole program; empty: ψ stays.
   std::vector<double> redundancy_search_rad;
+  /// `deflection: static|contact`: the static tip deflection at every
+  /// sample, or 000's contact boundary where a sample finishes a
+  /// down-milling wall (the model of `robomill deflection`).
+  bool contact_deflection = false;
   /// `feed_limits:` — the caps `--optimize` keeps every line's feed under
   /// (toolpath/feed_schedule.hpp); 0: no cap.
   struct FeedLimits {

@@ -100,6 +100,16 @@ struct RobotPathSettings {
   /// second moment come from each tool; the equivalent diameter is this
   /// fraction of the diameter (000's 0.8, docs/assumptions.md).
   double equivalent_diameter_fraction = 0.8;
+  /// 000's contact boundary (§4, Eq 20-31) where a sample finishes a wall in
+  /// down milling with the linear law and a flat end mill: the node
+  /// deflections of `robomill deflection` at the sample's posture, feed,
+  /// radial and axial depth, in its milling frame, instead of the static
+  /// tip deflection (which every other sample keeps).
+  struct ContactDeflection {
+    bool enabled = false;
+    int elements = 10;            ///< m axial elements (000: dz = ap/m)
+    bool chip_correction = true;  ///< 000 Eq 21/28's static-chip correction
+  } contact;
   int threads = 0;  ///< 0: all cores
   std::size_t worst_lines = 10;
 };
@@ -127,6 +137,10 @@ struct RobotSample {
   double form_error_m = 0.0;   ///< on the finished wall's normal; + = material left
   double floor_error_m = 0.0;  ///< along the tool axis; + = material left
   bool wall = false;           ///< the sample finishes a wall (an arc ends at φ = 0 or π)
+  /// The lateral deflection and the form error are 000's contact boundary
+  /// (RobotPathSettings::contact): the tip node's deflection, and the wall's
+  /// largest surface location error over the nodes that generate it.
+  bool contact = false;
 };
 
 /// One program line among the worst, with the advice for it.
@@ -151,6 +165,7 @@ struct RobotPathSummary {
   int min_margin_line = 0;
   double max_form_error_m = 0.0, max_deflection_m = 0.0, max_floor_error_m = 0.0;
   int max_form_error_line = 0;
+  std::size_t contact_samples = 0;  ///< deflections by 000's contact boundary
   std::size_t exact_limits = 0;     ///< zero-order solves (the shortcut's cost)
   std::size_t checked = 0;          ///< interpolated samples also computed exactly
   double shortcut_max_error = 0.0;  ///< largest relative error among them
@@ -221,6 +236,8 @@ class RobotAlongPath {
 
   void posture(const PathSample& sample, RobotSample& out);
   void deflect(const PathSample& sample, RobotSample& out) const;
+  void contact_deflect(const PathSample& sample, const tool::Tool& tool,
+                       const Eigen::Matrix3d& frame, RobotSample& out) const;
   void limits(std::span<const PathSample> samples, std::span<RobotSample> out);
   void tally(const PathSample& sample, const RobotSample& out);
 };
