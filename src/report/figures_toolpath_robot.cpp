@@ -2,7 +2,8 @@
 // margin and the form error on the 3-D path's colour menu, the margin, the
 // deflection and the joint angles over time, the form error as a map on the
 // part, the robot drawn at its worst posture, the headline numbers and the
-// worst program lines with their advice. From the robot columns of
+// worst program lines with their advice, and with --optimize the feeds
+// written back and the before/after table. From the robot columns of
 // samples_preview.csv and summary.json's "robot_along_path"; a folder
 // without them gets none of these (and a page as before).
 
@@ -548,6 +549,130 @@ void worst_lines_table(const json& along, Content& c) {
   c.tables.push_back(std::move(table));
 }
 
+// ------------------------------------------------------------ the better program
+
+// --optimize's feeds: programmed and chosen feed per changed program line,
+// coloured by the cap that set it, the loads before and after on hover.
+void feed_figure(const json& feeds, Content& c) {
+  const json changes = feeds.value("changes", json());
+  if (!changes.is_array() || changes.empty())
+    return;
+  std::vector<double> lines, programmed, chosen;
+  std::vector<std::string> binding, hover;
+  for (const json& change : changes) {
+    if (!change.is_object())
+      continue;
+    const double line = number_of(change, "line");
+    const double from = number_of(change, "programmed_mm_min");
+    const double to = number_of(change, "chosen_mm_min");
+    if (!std::isfinite(line) || !std::isfinite(from) || !std::isfinite(to))
+      continue;
+    lines.push_back(line);
+    programmed.push_back(from);
+    chosen.push_back(to);
+    binding.push_back(json_text(change.value("binding", json())));
+    const json before = change.value("before", json::object());
+    const json after = change.value("after", json::object());
+    hover.push_back(fmt::format(
+        "line {}: {} → {} mm/min ({})<br>peak force {} → {} N<br>peak torque {} → {} N·m<br>"
+        "deflection {} → {} µm<br>fastest joint {} → {} °/s",
+        integer_text(line), display(from), display(to), binding.back(),
+        display(number_of(before, "force_peak_N")), display(number_of(after, "force_peak_N")),
+        display(number_of(before, "torque_peak_Nm")), display(number_of(after, "torque_peak_Nm")),
+        display(number_of(before, "deflection_um")), display(number_of(after, "deflection_um")),
+        display(number_of(before, "joint_speed_deg_s")),
+        display(number_of(after, "joint_speed_deg_s"))));
+  }
+  if (lines.empty())
+    return;
+  Figure f;
+  f.title = "The better program: feed per program line";
+  json was = trace(lines, programmed, "programmed feed", "markers");
+  was["marker"] = {{"color", "#999999"}, {"symbol", "line-ew-open"}, {"size", 14}};
+  was["hoverinfo"] = "skip";
+  f.data.push_back(was);
+  const std::vector<std::string> caps = {"force", "torque", "deflection", "joint_speed",
+                                         "feed_max"};
+  for (std::size_t k = 0; k < caps.size(); ++k) {
+    std::vector<double> x, y;
+    std::vector<std::string> text;
+    for (std::size_t i = 0; i < lines.size(); ++i)
+      if (binding[i] == caps[k]) {
+        x.push_back(lines[i]);
+        y.push_back(chosen[i]);
+        text.push_back(hover[i]);
+      }
+    if (x.empty())
+      continue;
+    json now = trace(x, y, "chosen, set by " + caps[k], "markers");
+    now["marker"] = {{"color", kColors[k % 8]}, {"size", 8}};
+    now["text"] = text;
+    now["hovertemplate"] = "%{text}<extra></extra>";
+    f.data.push_back(now);
+  }
+  f.layout["xaxis"] = axis("program line");
+  f.layout["yaxis"] = axis("feed (mm/min)");
+  f.layout["legend"] = {{"orientation", "h"}, {"y", -0.2}};
+  f.caption = fmt::format(
+      "robomill toolpath --optimize under robot_path.feed_limits (summary.json "
+      "optimization.feeds): each changed line's programmed feed (grey dash) and the feed "
+      "written back, coloured by the cap that set it; hover gives the loads measured on runs "
+      "of the whole program before and after. {} of {} feed lines changed in {} runs.",
+      integer_text(number_of(feeds, "lines_changed")),
+      integer_text(number_of(feeds, "lines_with_feed")), integer_text(number_of(feeds, "runs")));
+  c.figures.push_back(std::move(f));
+}
+
+// --optimize's before and after, measured (the re-run of the written program).
+void optimization_table(const json& optimization, const json& summary, Content& c) {
+  TextTable table;
+  table.title = "The better program (summary.json optimization)";
+  table.header = {"result", "before", "after"};
+  const json after = optimization.value("after", json::object());
+  const json along = summary.value("robot_along_path", json::object());
+  // Spindle speeds whole (12000 rpm, not 1.2e+04), the rest to 4 digits.
+  auto text = [](double value, const std::string& unit) {
+    if (!std::isfinite(value))
+      return std::string("—");
+    return (unit == " rpm" ? integer_text(value) : display(value)) + unit;
+  };
+  auto row = [&](const std::string& label, double before, double now, const std::string& unit) {
+    if (std::isfinite(before) || std::isfinite(now))
+      table.rows.push_back({label, text(before, unit), text(now, unit)});
+  };
+  table.rows.push_back({"program", json_text(summary.value("program", json())),
+                        json_text(optimization.value("program", json()))});
+  const json redundancy = optimization.value("redundancy", json());
+  if (redundancy.is_object())
+    row("redundancy angle ψ", number_of(redundancy, "programmed_deg"),
+        number_of(redundancy, "chosen_deg"), " °");
+  const json spindles = optimization.value("spindle_choices", json());
+  if (spindles.is_array())
+    for (const json& choice : spindles)
+      if (choice.is_object() && choice.contains("lines") && choice["lines"].is_array() &&
+          choice["lines"].size() == 2)
+        row(fmt::format("spindle, lines {}-{}", json_text(choice["lines"][0]),
+                        json_text(choice["lines"][1])),
+            number_of(choice, "programmed_rpm"), number_of(choice, "chosen_rpm"), " rpm");
+  row("smallest chatter margin", number_of(along, "min_margin"), number_of(after, "min_margin"),
+      "");
+  row("samples with chatter", number_of(along, "chatter_samples"),
+      number_of(after, "chatter_samples"), "");
+  row("largest form error", number_of(along, "max_form_error_um"),
+      number_of(after, "max_form_error_um"), " µm");
+  row("largest peak force", number_of(summary, "max_force_N"), number_of(after, "max_force_N"),
+      " N");
+  row("largest peak torque", number_of(summary, "max_torque_Nm"), number_of(after, "max_torque_Nm"),
+      " N·m");
+  row("largest deflection", number_of(along, "max_deflection_um"),
+      number_of(after, "max_deflection_um"), " µm");
+  row("cycle time", number_of(optimization, "cycle_time_before_s"),
+      number_of(after, "cycle_time_s"), " s");
+  row("samples newly at risk", std::numeric_limits<double>::quiet_NaN(),
+      number_of(optimization, "samples_newly_at_risk"), "");
+  c.tables.push_back(std::move(table));
+}
+
 }  // namespace
 
 void robot_path_colours(const Table& s, const std::vector<std::size_t>& feed_rows, Figure& f) {
@@ -642,6 +767,13 @@ void toolpath_robot_figures(const Table* s, const json& summary, Content& c) {
   posture_figure(*it, c);
   headline_table(*it, c);
   worst_lines_table(*it, c);
+  const auto optimization = summary.find("optimization");
+  if (optimization != summary.end() && optimization->is_object() &&
+      optimization->value("changed", false)) {
+    if (optimization->contains("feeds") && (*optimization)["feeds"].is_object())
+      feed_figure((*optimization)["feeds"], c);
+    optimization_table(*optimization, summary, c);
+  }
 }
 
 }  // namespace robomill::report::detail

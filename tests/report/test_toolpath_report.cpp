@@ -729,3 +729,71 @@ TEST(ToolpathRobotReport, LongPreviewsAreThinnedKeepingTheSmallestMargin) {
   EXPECT_EQ(path->layout["updatemenus"][0]["buttons"][2]["args"][0]["marker.color"][0].size(),
             path->data[0]["x"].size());
 }
+
+TEST(ToolpathRobotReport, OptimizedProgramShowsTheFeedsAndTheBeforeAfterTable) {
+  // summary.json's optimization as `toolpath --optimize` writes it: a speed
+  // change, two lines slowed (force, deflection), one sped up to feed_max.
+  rr::Files files = robot_files();
+  json summary = json::parse(files.at("summary.json"));
+  auto change = [](int line, double from, double to, const char* binding, double force_before,
+                   double force_after) {
+    return json{{"line", line},
+                {"programmed_mm_min", from},
+                {"chosen_mm_min", to},
+                {"binding", binding},
+                {"before", {{"force_peak_N", force_before}, {"deflection_um", 60.0}}},
+                {"after", {{"force_peak_N", force_after}, {"deflection_um", 49.0}}}};
+  };
+  summary["optimization"] = {
+      {"changed", true},
+      {"program", "program_optimized.nc"},
+      {"spindle_choices",
+       json::array({{{"lines", {3, 8}}, {"programmed_rpm", 8000.0}, {"chosen_rpm", 12000.0}}})},
+      {"redundancy", nullptr},
+      {"feeds",
+       {{"runs", 4},
+        {"lines_with_feed", 5},
+        {"lines_changed", 3},
+        {"changes", json::array({change(4, 600, 344, "force", 134, 117),
+                                 change(5, 600, 207, "deflection", 120, 108),
+                                 change(6, 500, 2000, "feed_max", 40, 54)})}}},
+      {"after",
+       {{"min_margin", 1.58},
+        {"chatter_samples", 0},
+        {"max_force_N", 119.5},
+        {"max_deflection_um", 49.8},
+        {"cycle_time_s", 62.3}}},
+      {"cycle_time_before_s", 41.0},
+      {"samples_newly_at_risk", 0}};
+  files["summary.json"] = summary.dump(2);
+  const rd::Content c = content_of(files);
+  const rd::Figure* f = figure_titled(c, "The better program: feed per program line");
+  ASSERT_NE(f, nullptr);
+  const std::vector<std::string> names = trace_names(*f);
+  EXPECT_EQ(names,
+            (std::vector<std::string>{"programmed feed", "chosen, set by force",
+                                      "chosen, set by deflection", "chosen, set by feed_max"}));
+  EXPECT_EQ(f->data[0]["y"].size(), 3u);
+  EXPECT_NE(f->data[1]["text"][0].get<std::string>().find("peak force 134 → 117 N"),
+            std::string::npos);
+  const rd::TextTable* t = table_starting(c, "The better program");
+  ASSERT_NE(t, nullptr);
+  auto row = [&](const std::string& label) -> std::vector<std::string> {
+    for (const auto& r : t->rows)
+      if (r.front() == label)
+        return r;
+    return {};
+  };
+  EXPECT_EQ(row("spindle, lines 3-8"),
+            (std::vector<std::string>{"spindle, lines 3-8", "8000 rpm", "12000 rpm"}));
+  EXPECT_EQ(row("cycle time"), (std::vector<std::string>{"cycle time", "41 s", "62.3 s"}));
+  EXPECT_EQ(row("largest peak force").at(2), "119.5 N");
+  const std::string html = rr::render_html(files);
+  EXPECT_EQ(html.find("NaN", html.find("id=\"robomill-figures\"")), std::string::npos);
+  // Without a change (or without --optimize) neither appears.
+  summary["optimization"]["changed"] = false;
+  files["summary.json"] = summary.dump(2);
+  const rd::Content kept = content_of(files);
+  EXPECT_EQ(figure_titled(kept, "The better program: feed per program line"), nullptr);
+  EXPECT_EQ(table_starting(kept, "The better program"), nullptr);
+}
