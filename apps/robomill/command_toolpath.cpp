@@ -909,6 +909,15 @@ CommandResult compute_toolpath(const io::Job& job, int threads,
                                    "move the table or the pose within the robot's reach",
                                    r.first_unreachable_line, table.x(), table.y(), table.z()));
     }
+    // A better program for a cell that cannot run this one would mislead:
+    // --optimize stops here, naming where the robot falls short.
+    if (optimize && r.unreachable > 0)
+      throw InputError("workpiece.pose", job.robot_path ? job.robot_path->line : 0,
+                       fmt::format("--optimize: the robot cannot reach {} samples of the program "
+                                   "(the first at program line {}); no program is written: move "
+                                   "the part within reach (workpiece.table, workpiece.pose) or "
+                                   "run without --optimize to see every line out of reach",
+                                   r.unreachable, r.first_unreachable_line));
     if (r.unreachable > 0) {
       std::string lines;
       for (std::size_t k = 0; k < std::min<std::size_t>(r.unreachable_lines.size(), 10); ++k)

@@ -354,7 +354,7 @@ constexpr Field kFields[] = {
   {"robot_path.feed_limits", "deflection_max", K::quantity, "um", "> 0", "none", "", "Static tool-tip deflection |δ| under the mean force: the robot's compliance at the posture plus the tool's (000 Eq 1, 3)."},
   {"robot_path.feed_limits", "joint_speed_max", K::quantity, "deg/s", "> 0", "none", "", "Every joint's speed along the feed moves (a line is slowed until the robot can follow it, and never sped past it)."},
   {"robot_path.feed_limits", "feed_min", K::quantity, "mm/min", "> 0", "1 % of the programmed feed", "", "No line is slowed below this; a cap that would need less is an error naming the line."},
-  {"robot_path.feed_limits", "feed_max", K::quantity, "mm/min", "≥ feed_min", "the programmed feed", "", "Lines under every cap are sped up to their caps, up to this; without it feeds only come down."},
+  {"robot_path.feed_limits", "feed_max", K::quantity, "mm/min", "≥ feed_min", "the programmed feed", "", "Lines under every cap are sped up to their caps, up to this, and a line programmed faster comes down to it; without it feeds only come down."},
   {"robot_path", "worst_lines", K::integer, "", "1 … 1000", "10", "", "Program lines listed with advice, worst margin first."},
   {"stock", "box", K::map, "", "", "", "yes", "The stock box: see `stock.box`."},
   {"stock", "resolution", K::quantity, "mm", "> 0, ≤ 5e7 rays", "tool diameter / 20", "", "Dexel spacing: the engagement is resolved to about this."},

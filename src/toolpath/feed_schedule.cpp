@@ -147,7 +147,8 @@ FeedSchedule schedule_feeds(const Program& program, const FeedLimits& limits,
                                           : limits.min_scale;
     state.high = 1.0;
     if (limits.feed_max_m_s > 0.0) {
-      state.high = std::max(1.0, limits.feed_max_m_s / line.programmed_m_s);
+      // A line programmed faster than feed_max comes down to it.
+      state.high = limits.feed_max_m_s / line.programmed_m_s;
       state.high_bound = "feed_max";
     }
     // Joint speeds scale exactly with the feed: the same path in s times

@@ -132,4 +132,11 @@ expect_exit2 "needs the robot" toolpath "$G" --optimize
 expect_exit2 "reaches no sample" toolpath "$R" --set "workpiece.table=[9000, 0, 500]" \
   --set "toolpath.spacing=2 mm"
 expect_exit2 "needs a robot" toolpath "$G" --set "robot_path.redundancy=10"
+# Part of the program out of reach: reported by line; --optimize refuses.
+"$ROBOMILL" toolpath "$R" --out "$WORK/far" --quiet --set "workpiece.table=[2820, -20, 560]" \
+  --set "toolpath.spacing=1 mm" || fail "a partly unreachable program must still be analysed"
+far=$(json_number "$WORK/far/summary.json" robot_along_path unreachable_samples)
+[ "${far:-0}" -gt 0 ] || fail "the moved table should put samples out of reach"
+expect_exit2 "cannot reach" toolpath "$R" --optimize --set "workpiece.table=[2820, -20, 560]" \
+  --set "toolpath.spacing=1 mm"
 finish

@@ -122,6 +122,18 @@ TEST(FeedSchedule, SpeedsUpToFeedMaxOrTheCapAndKeepsJointSpeeds) {
   EXPECT_LE(schedule.lines[2].after.deflection_m, 40e-6);
 }
 
+TEST(FeedSchedule, ALineProgrammedFasterThanFeedMaxComesDownToIt) {
+  Counting measure{{{10.0, 20.0, 0.1}}};  // light loads
+  const Program program = program_of(measure.laws, 0.05);  // 3000 mm/min
+  FeedLimits limits;
+  limits.force_max_n = 600.0;
+  limits.feed_max_m_s = 0.04;  // 2400 mm/min
+  const FeedSchedule schedule =
+      schedule_feeds(program, limits, [&](const std::vector<double>& s) { return measure(s); });
+  EXPECT_NEAR(schedule.lines[0].scale, 0.8, 1e-12);
+  EXPECT_EQ(schedule.lines[0].binding, "feed_max");
+}
+
 TEST(FeedSchedule, JointSpeedAloneSlowsLinesExactly) {
   Counting measure{{{0.0, 0.0, 1.0}, {0.0, 0.0, 0.2}}};  // no cut: joints only
   const Program program = program_of(measure.laws, 0.02);
