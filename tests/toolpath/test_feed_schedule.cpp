@@ -123,7 +123,7 @@ TEST(FeedSchedule, SpeedsUpToFeedMaxOrTheCapAndKeepsJointSpeeds) {
 }
 
 TEST(FeedSchedule, ALineProgrammedFasterThanFeedMaxComesDownToIt) {
-  Counting measure{{{10.0, 20.0, 0.1}}};  // light loads
+  Counting measure{{{10.0, 20.0, 0.1}}};                   // light loads
   const Program program = program_of(measure.laws, 0.05);  // 3000 mm/min
   FeedLimits limits;
   limits.force_max_n = 600.0;

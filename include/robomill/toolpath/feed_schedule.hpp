@@ -49,7 +49,7 @@ struct FeedLimits {
   double deflection_max_m = 0.0;       ///< |static tool-tip deflection| (robot + tool)
   double joint_speed_max_rad_s = 0.0;  ///< every joint's speed along the path
   double feed_min_m_s = 0.0;           ///< no line is slowed below this
-  double feed_max_m_s = 0.0;  ///< no line runs faster (0: than programmed)
+  double feed_max_m_s = 0.0;           ///< no line runs faster (0: than programmed)
   /// Aim for this fraction of the binding cap (headroom for the program's
   /// rounding of the feed word); a line is done once its ratio lies in
   /// [target − tolerance, 1].
