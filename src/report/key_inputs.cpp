@@ -203,6 +203,32 @@ std::string key_inputs_json(const io::Job& job) {
                            spec.type == tool::ToolType::ball ? "ball" : "flat",
                            num(spec.diameter_m * 1e3), spec.teeth, num(spec.helix_rad * kDeg)));
   }
+  if (job.robot_path) {
+    const io::RobotPathJobSettings& r = *job.robot_path;
+    rows.add("robot path", "redundancy ψ", with_unit(r.redundancy_rad * kDeg, "°"));
+    rows.add("robot path", "deflection",
+             r.contact_deflection ? "000's contact boundary" : "static");
+    if (r.feed_limits) {
+      const io::RobotPathJobSettings::FeedLimits& l = *r.feed_limits;
+      std::vector<std::string> caps;
+      if (l.force_max_n > 0.0)
+        caps.push_back(fmt::format("force {} N", num(l.force_max_n)));
+      if (l.torque_max_nm > 0.0)
+        caps.push_back(fmt::format("torque {} N·m", num(l.torque_max_nm)));
+      if (l.deflection_max_m > 0.0)
+        caps.push_back(fmt::format("deflection {} µm", num(l.deflection_max_m * 1e6)));
+      if (l.joint_speed_max_rad_s > 0.0)
+        caps.push_back(fmt::format("joint speed {} °/s", num(l.joint_speed_max_rad_s * kDeg)));
+      std::string text;
+      for (const std::string& cap : caps)
+        text += (text.empty() ? "" : ", ") + cap;
+      if (l.feed_min_m_s > 0.0 || l.feed_max_m_s > 0.0)
+        text += fmt::format("; feed {} – {} mm/min",
+                            l.feed_min_m_s > 0.0 ? num(l.feed_min_m_s * 6e4) : "…",
+                            l.feed_max_m_s > 0.0 ? num(l.feed_max_m_s * 6e4) : "programmed");
+      rows.add("robot path", "feed limits", text);
+    }
+  }
   if (job.stock) {
     const io::StockSettings& s = *job.stock;
     rows.add("stock", "box",

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
+
 #include <cmath>
 #include <string>
 
@@ -98,4 +100,17 @@ TEST(ReportInputs, KeyInputsOfTheDemoJob) {
   }
   EXPECT_TRUE(ktc);
   EXPECT_TRUE(spindle);
+}
+
+TEST(ReportInputs, RobotPathSettingsAndFeedLimitsOfTheRobotPocket) {
+  const robomill::io::Job job = robomill::io::load_job(std::string(ROBOMILL_SOURCE_DIR) +
+                                                       "/examples/toolpath_robot_pocket.yaml");
+  const nlohmann::json inputs = nlohmann::json::parse(rr::key_inputs_json(job));
+  std::map<std::string, std::string> robot_path;
+  for (const auto& row : inputs["inputs"])
+    if (row["group"] == "robot path")
+      robot_path[row["name"]] = row["value"];
+  EXPECT_EQ(robot_path["deflection"], "static");
+  EXPECT_EQ(robot_path["feed limits"],
+            "force 120 N, deflection 50 µm, joint speed 20 °/s; feed 50 – 2000 mm/min");
 }
