@@ -2,9 +2,8 @@
 
 #include <gtest/gtest.h>
 
-#include <map>
-
 #include <cmath>
+#include <map>
 #include <string>
 
 #include "../../src/report/detail.hpp"
