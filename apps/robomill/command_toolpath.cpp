@@ -414,50 +414,36 @@ nlohmann::json loads_json(const toolpath::MoveLoads& loads) {
           {"joint_speed_deg_s", loads.joint_speed_rad_s * kDegPerRad}};
 }
 
-// The feed edits of a schedule: each changed line rescaled, and the feed in
-// force restored before the next unchanged feed line. Where the program runs
-// its lines out of order (a KRL FOR loop), every unchanged feed line gets the
-// restore, since any of them may follow a changed one.
+// The feed edits of a schedule: each changed line rescaled with a comment
+// naming the binding cap and the loads before and after, and the restores
+// (io::with_feed_restores).
 std::vector<io::FeedEdit> feed_edits(const toolpath::Program& program,
                                      const toolpath::FeedSchedule& schedule,
                                      const toolpath::FeedLimits& limits) {
-  bool in_order = true;
-  for (std::size_t m = 1; m < program.moves.size(); ++m)
-    in_order = in_order && program.moves[m].line >= program.moves[m - 1].line;
-  std::vector<const toolpath::LineFeed*> lines;
-  for (const toolpath::LineFeed& line : schedule.lines)
-    lines.push_back(&line);
-  std::sort(lines.begin(), lines.end(),
-            [](const auto* a, const auto* b) { return a->line < b->line; });
-  std::vector<io::FeedEdit> edits;
-  bool any_changed = false, previous_changed = false;
-  for (const toolpath::LineFeed* line : lines) {
-    if (line->changed()) {
-      const toolpath::MoveLoads& b = line->before;
-      const toolpath::MoveLoads& a = line->after;
-      std::string loads;
-      if (limits.force_max_n > 0.0)
-        loads += fmt::format(", peak force {:.0f} -> {:.0f} N", b.force_peak_n, a.force_peak_n);
-      if (limits.torque_max_nm > 0.0)
-        loads +=
-            fmt::format(", peak torque {:.2f} -> {:.2f} N*m", b.torque_peak_nm, a.torque_peak_nm);
-      if (limits.deflection_max_m > 0.0)
-        loads += fmt::format(", deflection {:.0f} -> {:.0f} um", b.deflection_m * 1e6,
-                             a.deflection_m * 1e6);
-      if (limits.joint_speed_max_rad_s > 0.0)
-        loads += fmt::format(", fastest joint {:.1f} -> {:.1f} deg/s",
-                             b.joint_speed_rad_s * kDegPerRad, a.joint_speed_rad_s * kDegPerRad);
-      edits.push_back(
-          {line->line, line->scale, line->programmed_m_s,
-           fmt::format("robomill: feed {:.0f} -> {:.0f} mm/min ({}){}", line->programmed_m_s * 6e4,
-                       line->programmed_m_s * line->scale * 6e4, line->binding, loads)});
-    } else if (any_changed && (previous_changed || !in_order)) {
-      edits.push_back({line->line, 1.0, line->programmed_m_s, "robomill: the programmed feed"});
-    }
-    any_changed = any_changed || line->changed();
-    previous_changed = line->changed();
+  std::vector<io::FeedEdit> changed;
+  for (const toolpath::LineFeed& line : schedule.lines) {
+    if (!line.changed())
+      continue;
+    const toolpath::MoveLoads& b = line.before;
+    const toolpath::MoveLoads& a = line.after;
+    std::string loads;
+    if (limits.force_max_n > 0.0)
+      loads += fmt::format(", peak force {:.0f} -> {:.0f} N", b.force_peak_n, a.force_peak_n);
+    if (limits.torque_max_nm > 0.0)
+      loads +=
+          fmt::format(", peak torque {:.2f} -> {:.2f} N*m", b.torque_peak_nm, a.torque_peak_nm);
+    if (limits.deflection_max_m > 0.0)
+      loads += fmt::format(", deflection {:.0f} -> {:.0f} um", b.deflection_m * 1e6,
+                           a.deflection_m * 1e6);
+    if (limits.joint_speed_max_rad_s > 0.0)
+      loads += fmt::format(", fastest joint {:.1f} -> {:.1f} deg/s",
+                           b.joint_speed_rad_s * kDegPerRad, a.joint_speed_rad_s * kDegPerRad);
+    changed.push_back(
+        {line.line, line.scale, line.programmed_m_s,
+         fmt::format("robomill: feed {:.0f} -> {:.0f} mm/min ({}){}", line.programmed_m_s * 6e4,
+                     line.programmed_m_s * line.scale * 6e4, line.binding, loads)});
   }
-  return edits;
+  return io::with_feed_restores(program, std::move(changed));
 }
 
 // --optimize: the redundancy angle for the whole program, the spindle speed
@@ -578,8 +564,15 @@ nlohmann::json optimize_program(const io::Job& job, const toolpath::Program& pro
                        : program;
   // Its moves keep the original program's line numbers (the inserted S
   // blocks shift the written text's), which the feed edits and errors name.
-  for (std::size_t m = 0; m < with_speeds.moves.size(); ++m)
-    with_speeds.moves[m].line = program.moves[m].line;
+  // Feeds are set per statement: a move on a line that continues an APT
+  // record (a '$' continuation, a GOTO's further points) belongs to the
+  // record's first line, where a FEDRAT can go.
+  const std::vector<int> starts = io::statement_starts(text, settings.format);
+  for (std::size_t m = 0; m < with_speeds.moves.size(); ++m) {
+    const int line = program.moves[m].line;
+    with_speeds.moves[m].line =
+        line > 0 && static_cast<std::size_t>(line) < starts.size() ? starts[line] : line;
+  }
   if (job.robot_path && job.robot_path->feed_limits) {
     const toolpath::FeedLimits limits = io::feed_limits(*job.robot_path->feed_limits);
     const toolpath::DexelStock stock = make_stock(job);

@@ -6,6 +6,7 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <map>
 #include <numbers>
 #include <optional>
 
@@ -75,14 +76,23 @@ std::optional<FeedWord> gcode_feed_word(std::string_view line) {
       word.expression = true;
       return word;
     }
+    // RS274NGC lets spaces stand inside a number ("F 6 0 0"): they are
+    // skipped, and the rescaled number replaces the whole span.
     std::size_t k = j;
     if (k < line.size() && (line[k] == '+' || line[k] == '-'))
       ++k;
-    while (k < line.size() && (std::isdigit(static_cast<unsigned char>(line[k])) || line[k] == '.'))
+    std::size_t last = k;  // one past the number's last digit or point
+    while (k < line.size() && (std::isdigit(static_cast<unsigned char>(line[k])) ||
+                               line[k] == '.' || line[k] == ' ' || line[k] == '\t')) {
+      if (line[k] != ' ' && line[k] != '\t')
+        last = k + 1;
       ++k;
-    std::string digits(line.substr(j, k - j));
-    if (!digits.empty() && digits.front() == '+')
-      digits.erase(0, 1);
+    }
+    k = last;
+    std::string digits;
+    for (std::size_t i = j; i < k; ++i)
+      if (line[i] != ' ' && line[i] != '\t' && line[i] != '+')
+        digits += line[i];
     const auto [end, error] =
         std::from_chars(digits.data(), digits.data() + digits.size(), word.value);
     if (error != std::errc() || end != digits.data() + digits.size())
@@ -139,6 +149,70 @@ std::string scaled_fedrat(std::string_view record, double scale, int line) {
 
 }  // namespace
 
+std::vector<int> statement_starts(std::string_view text, ToolpathSettings::Format format) {
+  std::vector<int> starts = {0};
+  bool continues = false;  // the line before ends in APT's '$'
+  int start = 1;
+  int line = 1;
+  std::size_t position = 0;
+  while (position < text.size()) {
+    const std::size_t end = text.find('\n', position);
+    const std::size_t stop = end == std::string_view::npos ? text.size() : end;
+    std::string_view body = text.substr(position, stop - position);
+    if (format == Format::apt) {
+      const std::size_t comment = body.find("$$");
+      const std::string_view code =
+          trimmed(comment == std::string_view::npos ? body : body.substr(0, comment));
+      // A further point of a GOTO on a line of its own (Creo's CL files)
+      // starts with a number; a '$' continues the record on the next line.
+      const bool point = !code.empty() && (std::isdigit(static_cast<unsigned char>(code[0])) ||
+                                           code[0] == '-' || code[0] == '+' || code[0] == '.');
+      if (!continues && !point)
+        start = line;
+      continues = !code.empty() && code.back() == '$';
+    } else {
+      start = line;
+    }
+    starts.push_back(start);
+    position = stop + 1;
+    ++line;
+  }
+  return starts;
+}
+
+std::vector<FeedEdit> with_feed_restores(const toolpath::Program& program,
+                                         std::vector<FeedEdit> changed) {
+  bool in_order = true;
+  for (std::size_t m = 1; m < program.moves.size(); ++m)
+    in_order = in_order && program.moves[m].line >= program.moves[m - 1].line;
+  // The feed lines in text order, each with its programmed (slowest) feed.
+  std::map<int, double> feed_lines;
+  for (const toolpath::Move& move : program.moves) {
+    if ((move.kind != toolpath::MotionKind::linear && move.kind != toolpath::MotionKind::arc) ||
+        !(move.feed_m_s > 0.0))
+      continue;
+    auto [it, added] = feed_lines.try_emplace(move.line, move.feed_m_s);
+    if (!added)
+      it->second = std::min(it->second, move.feed_m_s);
+  }
+  std::map<int, const FeedEdit*> by_line;
+  for (const FeedEdit& edit : changed)
+    by_line[edit.line] = &edit;
+  std::vector<FeedEdit> edits;
+  bool any_changed = false, previous_changed = false;
+  for (const auto& [line, feed_m_s] : feed_lines) {
+    const auto it = by_line.find(line);
+    const bool is_changed = it != by_line.end() && it->second->scale != 1.0;
+    if (is_changed)
+      edits.push_back(*it->second);
+    else if (any_changed && (previous_changed || !in_order))
+      edits.push_back({line, 1.0, feed_m_s, "robomill: the programmed feed"});
+    any_changed = any_changed || is_changed;
+    previous_changed = is_changed;
+  }
+  return edits;
+}
+
 std::string write_spindle_edits(std::string_view text, ToolpathSettings::Format format,
                                 std::vector<SpindleEdit> edits) {
   return write_program_edits(text, format, std::move(edits), {});
@@ -166,6 +240,7 @@ std::string write_program_edits(std::string_view text, ToolpathSettings::Format 
   std::optional<double> gcode_feed;
   bool gcode_feed_expression = false;
   std::string apt_fedrat;
+  int apt_cycle_line = 0;  // the CYCLE with its own feed in force (0: none)
 
   auto feed_missing = [&](int line, std::string_view what) {
     throw InputError(
@@ -222,6 +297,10 @@ std::string write_program_edits(std::string_view text, ToolpathSettings::Format 
           }
           break;
         case Format::apt:
+          if (apt_cycle_line > 0)
+            feed_missing(line, fmt::format("it runs in the CYCLE of line {}, which sets its own "
+                                           "feed",
+                                           apt_cycle_line));
           if (apt_fedrat.empty())
             feed_missing(line, "no FEDRAT is in force before it");
           if (!edit->comment.empty())
@@ -245,6 +324,17 @@ std::string write_program_edits(std::string_view text, ToolpathSettings::Format 
     }
     if (format == Format::apt && starts_with_word(body, "FEDRAT"))
       apt_fedrat = std::string(trimmed(body));
+    if (format == Format::apt && starts_with_word(body, "CYCLE")) {
+      // A cycle with a feed of its own (CYCLE/DRILL, d, f, IPM, …) runs its
+      // points at that feed whatever FEDRAT says, until CYCLE/OFF.
+      std::string record(trimmed(body));
+      std::transform(record.begin(), record.end(), record.begin(),
+                     [](unsigned char c) { return static_cast<char>(std::toupper(c)); });
+      const bool own_feed =
+          record.find("IPM") != std::string::npos || record.find("MMPM") != std::string::npos ||
+          record.find("IPR") != std::string::npos || record.find("MMPR") != std::string::npos;
+      apt_cycle_line = record.find("OFF") == std::string::npos && own_feed ? line : 0;
+    }
     position = stop;
     ++line;
     if (end == std::string_view::npos && next_spindle < spindles.size())

@@ -7,7 +7,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <map>
 #include <numbers>
+#include <sstream>
 
 #include "robomill/core/error.hpp"
 #include "robomill/io/program_readers.hpp"
@@ -173,6 +179,143 @@ TEST(ProgramWriter, KrlPathSpeedSetBeforeTheMotionAndRestored) {
   ASSERT_GE(after.size(), 3u);
   EXPECT_NEAR(after[after.size() - 2], 0.5 * before[before.size() - 2], 1e-9);
   EXPECT_NEAR(after.back(), before.back(), 1e-9);
+}
+
+}  // namespace
+}  // namespace robomill::io
+
+namespace robomill::io {
+namespace {
+
+// Every program of the readers' corpus (tests/toolpath/gcode, apt, krl: what
+// CAM posts write — modal F, inch units, G95, drilling cycles, FEDRAT forms,
+// FOR loops, inline forms), every other feed line slowed or sped up, the
+// restores placed by with_feed_restores: the written program reads back with
+// each move's feed exactly the scaled one (to the 6 digits written) and
+// everything else as before.
+namespace corpus {
+
+namespace fs = std::filesystem;
+
+std::string text_of(const fs::path& path) {
+  std::ifstream file(path, std::ios::binary);
+  std::stringstream text;
+  text << file.rdbuf();
+  return text.str();
+}
+
+struct Checked {
+  int programs = 0, edited_lines = 0, refused = 0;
+};
+
+void check(const std::string& name, const std::string& text, ToolpathSettings::Format format,
+           const std::function<toolpath::Program(const std::string&)>& read, Checked& checked) {
+  toolpath::Program before;
+  try {
+    before = read(text);
+  } catch (const InputError&) {
+    return;  // a program the reader refuses on purpose (its own tests say why)
+  }
+  // Feeds are set per statement (an APT record's first line).
+  const std::vector<int> starts = statement_starts(text, format);
+  for (toolpath::Move& move : before.moves)
+    if (move.line > 0 && static_cast<std::size_t>(move.line) < starts.size())
+      move.line = starts[static_cast<std::size_t>(move.line)];
+  std::map<int, double> scale;
+  int k = 0;
+  for (const toolpath::Move& move : before.moves)
+    if ((move.kind == toolpath::MotionKind::linear || move.kind == toolpath::MotionKind::arc) &&
+        move.feed_m_s > 0.0 && !scale.count(move.line))
+      scale[move.line] = (k++ % 2 == 0) ? (k % 4 == 1 ? 0.5 : 1.7) : 1.0;
+  std::vector<FeedEdit> changed;
+  for (const auto& [line, s] : scale)
+    if (s != 1.0) {
+      double programmed = 0.0;
+      for (const toolpath::Move& move : before.moves)
+        if (move.line == line && move.feed_m_s > 0.0)
+          programmed = programmed == 0.0 ? move.feed_m_s : std::min(programmed, move.feed_m_s);
+      changed.push_back({line, s, programmed, "robomill: test"});
+    }
+  if (changed.empty())
+    return;
+  std::string written;
+  try {
+    written = write_program_edits(text, format, {}, with_feed_restores(before, changed));
+  } catch (const InputError& error) {
+    // The one refusal the corpus holds: a drilling cycle's own feed.
+    const std::string why = error.what();
+    if (why.find("sets its own feed") != std::string::npos) {
+      ++checked.refused;
+      return;
+    }
+    ADD_FAILURE() << name << ": " << why;
+    return;
+  }
+  toolpath::Program after;
+  try {
+    after = read(written);
+  } catch (const InputError& error) {
+    ADD_FAILURE() << name << ": the written program does not read back: " << error.what() << "\n"
+                  << written;
+    return;
+  }
+  ASSERT_EQ(after.moves.size(), before.moves.size()) << name << "\n" << written;
+  for (std::size_t m = 0; m < after.moves.size(); ++m) {
+    const toolpath::Move& was = before.moves[m];
+    const toolpath::Move& now = after.moves[m];
+    const auto it = scale.find(was.line);
+    const bool feeds =
+        (was.kind == toolpath::MotionKind::linear || was.kind == toolpath::MotionKind::arc) &&
+        was.feed_m_s > 0.0;
+    const double expected = feeds && it != scale.end() ? was.feed_m_s * it->second : was.feed_m_s;
+    EXPECT_NEAR(now.feed_m_s, expected, 1e-5 * expected + 1e-15)
+        << name << ": move " << m << " (line " << was.line << ")\n"
+        << written;
+    EXPECT_EQ(now.spindle_rad_s, was.spindle_rad_s) << name << ": move " << m;
+    EXPECT_LT((now.end_m - was.end_m).norm(), 1e-12) << name << ": move " << m;
+  }
+  ++checked.programs;
+  checked.edited_lines += static_cast<int>(changed.size());
+}
+
+}  // namespace corpus
+
+TEST(ProgramWriter, FeedsOfTheReaderCorpusRoundTrip) {
+  const corpus::fs::path root = corpus::fs::path(ROBOMILL_SOURCE_DIR) / "tests" / "toolpath";
+  corpus::Checked gcode, apt, krl;
+  for (const auto& entry : corpus::fs::directory_iterator(root / "gcode")) {
+    const std::string ext = entry.path().extension().string();
+    if (entry.is_regular_file() && (ext == ".nc" || ext == ".ngc"))
+      corpus::check(
+          entry.path().filename().string(), corpus::text_of(entry.path()),
+          ToolpathSettings::Format::gcode, [](const std::string& t) { return read_gcode(t, {}); },
+          gcode);
+  }
+  for (const auto& entry : corpus::fs::directory_iterator(root / "apt"))
+    if (entry.is_regular_file())
+      corpus::check(
+          entry.path().filename().string(), corpus::text_of(entry.path()),
+          ToolpathSettings::Format::apt, [](const std::string& t) { return read_apt(t, {}); }, apt);
+  for (const auto& entry : corpus::fs::directory_iterator(root / "krl")) {
+    if (!entry.is_regular_file() || entry.path().extension() != ".src")
+      continue;
+    KrlOptions options;
+    options.dat_name = entry.path().stem().string() + ".dat";
+    options.dat_text = corpus::text_of(corpus::fs::path(entry.path()).replace_extension(".dat"));
+    corpus::check(
+        entry.path().filename().string(), corpus::text_of(entry.path()),
+        ToolpathSettings::Format::krl, [&](const std::string& t) { return read_krl(t, options); },
+        krl);
+  }
+  // The corpus as it stands: most G-code programs read with default
+  // options; every APT and KRL program does.
+  EXPECT_GE(gcode.programs, 20) << gcode.edited_lines;
+  EXPECT_GE(apt.programs, 5);
+  EXPECT_EQ(apt.refused, 1);  // mastercam_drill.apt: CYCLE/DRILL with its own feed
+  EXPECT_GE(krl.programs, 3);
+  std::cout << "feed round trips: " << gcode.programs << " G-code programs (" << gcode.edited_lines
+            << " lines), " << apt.programs << " APT (" << apt.edited_lines << "), " << krl.programs
+            << " KRL (" << krl.edited_lines << ")\n";
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "robomill/io/job.hpp"
+#include "robomill/toolpath/program.hpp"
 
 namespace robomill::io {
 
@@ -33,6 +34,20 @@ struct FeedEdit {
   double programmed_m_s = 0.0;
   std::string comment;
 };
+
+/// For every line of `text` (1-based; [0] unused) the line a statement
+/// inserted for it must go before: the line itself, or in APT the first line
+/// of the record it continues (a '$' continuation, or a GOTO's further points
+/// on lines of their own). Feed edits are made per statement start.
+std::vector<int> statement_starts(std::string_view text, ToolpathSettings::Format format);
+
+/// The changes plus the restores that keep every other line at its
+/// programmed feed: `changed` holds one edit per changed program line (scale
+/// ≠ 1); a restore (scale 1) goes before the next feed line in the text after
+/// a changed one, or — where `program` runs its lines out of order (a KRL FOR
+/// loop) — before every unchanged feed line once a line has changed.
+std::vector<FeedEdit> with_feed_restores(const toolpath::Program& program,
+                                         std::vector<FeedEdit> changed);
 
 /// G-code: a block `S<rpm> (<COMMENT>)` (the M3/M4 in force keeps the
 /// direction); APT: `$$ <comment>` then `SPINDL/RPM,<rpm>,CLW|CCLW`. KRL
