@@ -90,7 +90,7 @@ io::CsvTable sample_table(int dof = 0) {
     for (const char* c :
          {"reachable", "joint_margin_deg", "singularity", "ap_limit_mm", "margin", "chatter",
           "at_risk", "chatter_freq_hz", "dev_x_um", "dev_y_um", "dev_z_um", "deflection_um",
-          "form_error_um", "floor_error_um", "dynamics_recomputed", "contact"})
+          "form_error_um", "floor_error_um", "dynamics_recomputed", "contact", "offset_um"})
       columns.emplace_back(c);
   }
   return io::CsvTable(columns);
@@ -153,6 +153,7 @@ void add_sample(io::CsvTable& table, const toolpath::PathSample& s,
     cells.emplace_back(bent ? io::CsvTable::Cell(r.floor_error_m * 1e6) : empty);
     cells.emplace_back(limit ? io::CsvTable::Cell(r.exact ? 1.0 : 0.0) : empty);
     cells.emplace_back(bent ? io::CsvTable::Cell(r.contact ? 1.0 : 0.0) : empty);
+    cells.emplace_back(r.has_offset ? io::CsvTable::Cell(r.steady_offset_m * 1e6) : empty);
   }
   table.add_cells(cells);
 }
@@ -225,6 +226,16 @@ nlohmann::json robot_summary(const io::RobotPathSetup& setup, const toolpath::Ro
       {"worst_lines", worst},
       {"notes", setup.notes},
   };
+  if (setup.settings.offset.enabled) {
+    // 004 Eq 6 over the program's samples: what `robomill optimize` reports
+    // as dm for its own path (docs/toolpath.md, "004's offset").
+    out["offset"] = {{"measure", std::string(planning::to_string(setup.settings.offset.measure))},
+                     {"harmonics", setup.settings.offset.harmonics},
+                     {"samples", r.offset_samples},
+                     {"dm_um", r.mean_offset_m * 1e6},
+                     {"max_um", r.max_offset_m * 1e6},
+                     {"max_line", r.max_offset_line}};
+  }
   if (!r.worst_lines.empty()) {
     const toolpath::WorstLine& w = r.worst_lines.front();
     nlohmann::json origins = nlohmann::json::array();

@@ -62,6 +62,12 @@ WidestSlice widest_slice(const GeneralEngagement& engagement) {
       widest.mean_chip_m = engagement.feed_per_tooth_m * std::abs(projected) / engaged_rad;
     }
   }
+  // A plunge has no lateral chip: the edge's chip is the axial feed's share
+  // |fz,axial| cos κ, whose mean over a quarter-circle edge (κ from 0 to π/2)
+  // is 2/π |fz,axial|. (A flat end mill's side edges, κ = π/2, cut nothing
+  // then: the law's coefficients only have to exist.)
+  if (!(widest.mean_chip_m > 0.0) && widest_rad > 0.0)
+    widest.mean_chip_m = 2.0 / std::numbers::pi * std::abs(engagement.axial_feed_per_tooth_m);
   return widest;
 }
 

@@ -210,6 +210,29 @@ void read_robot_path(SectionReader& root, Job& job) {
     limits->finish();
     s.feed_limits = l;
   }
+  if (auto offset = r.section("offset")) {
+    offset->allow_schema("robot_path.offset");
+    RobotPathJobSettings::Offset o;
+    o.line = offset->line();
+    if (offset->has("measure")) {
+      const std::string measure =
+          offset->choice("measure", {"peak", "vibration", "rms", "mean", "startup"});
+      o.measure = measure == "vibration" ? planning::OffsetMeasure::vibration
+                  : measure == "rms"     ? planning::OffsetMeasure::rms
+                  : measure == "mean"    ? planning::OffsetMeasure::mean
+                  : measure == "startup" ? planning::OffsetMeasure::startup
+                                         : planning::OffsetMeasure::peak;
+    }
+    if (offset->has("harmonics"))
+      o.harmonics = offset->integer("harmonics", 1, 2000);
+    if (offset->has("samples"))
+      o.samples = offset->integer("samples", 8, 100000);
+    if (o.harmonics && o.samples && *o.samples < 2 * *o.harmonics + 1)
+      offset->fail("samples", fmt::format("must be at least 2 harmonics + 1 = {} (Nyquist), got {}",
+                                          2 * *o.harmonics + 1, *o.samples));
+    offset->finish();
+    s.offset = o;
+  }
   r.finish();
   job.robot_path = s;
 }

@@ -156,6 +156,29 @@ std::optional<RobotPathSetup> robot_path_setup(const Job& job, int threads) {
     // cut reduces to that command at the sample's posture (the bending
     // section stays 0.8 × each cutter's diameter, as the note above says).
     settings.contact.enabled = r.contact_deflection;
+    if (r.offset) {
+      // The offset of `robomill optimize` (004 Eq 1-2): its measure and
+      // series unless the section sets its own, and the job's force model.
+      if (job.robot->description.dh && job.robot->description.dh->links.empty())
+        throw InputError("robot_path.offset", r.offset->line,
+                         "needs the robot's joint-space model: robot.links (masses, centres of "
+                         "gravity, inertias) with joint_stiffness and damping_ratio");
+      toolpath::RobotPathSettings::SteadyOffset& offset = settings.offset;
+      offset.enabled = true;
+      if (job.optimize) {
+        offset.measure = job.optimize->measure;
+        offset.harmonics = job.optimize->harmonics;
+        offset.samples = job.optimize->samples;
+      }
+      offset.measure = r.offset->measure.value_or(offset.measure);
+      offset.harmonics = r.offset->harmonics.value_or(offset.harmonics);
+      offset.samples = r.offset->samples.value_or(offset.samples);
+      if (offset.samples < 2 * offset.harmonics + 1)
+        throw InputError("robot_path.offset.samples", r.offset->line,
+                         fmt::format("must be at least 2 harmonics + 1 = {} (Nyquist), got {}",
+                                     2 * offset.harmonics + 1, offset.samples));
+      offset.axial_elements = job.forces.axial_elements;
+    }
     if (job.deflection) {
       settings.contact.elements = job.deflection->elements;
       settings.contact.chip_correction = job.deflection->chip_correction;

@@ -138,6 +138,9 @@ void robot_time_figure(const Table& s, Content& c) {
         std::pair{"floor_error_um", "floor error"}})
     if (s.has(column))
       deflection.push_back({column, name, "µm"});
+  // 004's steady-state offset, where the job asked for it (robot_path.offset).
+  if (s.has("offset_um") && std::isfinite(finite_range(s.numbers("offset_um")).second))
+    deflection.push_back({"offset_um", "004 offset", "µm"});
   if (!deflection.empty()) {
     rows.push_back(std::move(deflection));
     titles.push_back("deflection, error (µm)");
@@ -500,6 +503,16 @@ void headline_table(const json& along, Content& c) {
                           integer_text(number_of(along, "max_form_error_line"))});
   if (const double d = number_of(along, "max_deflection_um"); std::isfinite(d))
     table.rows.push_back({"largest deflection", display(d) + " µm", ""});
+  if (const json offset = along.value("offset", json()); offset.is_object()) {
+    const double dm = number_of(offset, "dm_um"), max = number_of(offset, "max_um");
+    if (std::isfinite(dm))
+      table.rows.push_back(
+          {fmt::format("004 offset d_m ({})", offset.value("measure", std::string("peak"))),
+           display(dm) + " µm", ""});
+    if (std::isfinite(max))
+      table.rows.push_back({"largest 004 offset", display(max) + " µm",
+                            integer_text(number_of(offset, "max_line"))});
+  }
   count("dynamics_recomputations", "dynamics recomputations");
   if (const double e = number_of(along, "shortcut_max_error"); std::isfinite(e))
     table.rows.push_back({"shortcut's measured error", display(e), ""});

@@ -155,8 +155,14 @@ ProgramAnalysis analyse_program(const Program& program, const Tooling& tooling,
   auto flush = [&] {
     core::parallel_for(block.size(), settings.threads, [&](std::size_t i) {
       PathSample& sample = block[i];
-      if (sample.analysed && !geometry[i].engagement.empty() && sample.kind != MotionKind::rapid)
-        compute_loads(law, geometry[i], settings.force_steps_per_tooth, sample);
+      if (sample.analysed && !geometry[i].engagement.empty() && sample.kind != MotionKind::rapid) {
+        try {
+          compute_loads(law, geometry[i], settings.force_steps_per_tooth, sample);
+        } catch (const std::invalid_argument& error) {  // the law cannot take this cut
+          throw InputError(settings.source_name, sample.line,
+                           fmt::format("the cut at this line: {}", error.what()));
+        }
+      }
     });
     for (const PathSample& sample : block) {
       MoveTotals& totals = result.moves[sample.move];

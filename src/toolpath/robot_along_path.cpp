@@ -16,6 +16,7 @@
 
 #include "robomill/core/error.hpp"
 #include "robomill/core/parallel.hpp"
+#include "robomill/cutting/milling_forces.hpp"
 #include "robomill/deflection/contact_boundary.hpp"
 #include "robomill/deflection/deformed_engagement.hpp"
 #include "robomill/deflection/node_compliance.hpp"
@@ -149,7 +150,10 @@ RobotAlongPath::RobotAlongPath(const robot::RobotModel& model, PostureStructure 
   if (model_.dof() > RobotSample::Joints::MaxRowsAtCompileTime)
     throw std::invalid_argument("robot along the path: at most 8 joints");
   if (!(settings_.tolerance > 0.0) || settings_.max_span < 1 || settings_.check_every < 0 ||
-      !(settings_.risk_margin >= 1.0) || !structure_)
+      !(settings_.risk_margin >= 1.0) || !structure_ ||
+      (settings_.offset.enabled && (settings_.offset.harmonics < 1 ||
+                                    settings_.offset.samples < 2 * settings_.offset.harmonics + 1 ||
+                                    settings_.offset.axial_elements < 0)))
     throw std::invalid_argument("robot along the path: inconsistent settings");
   seed_ = settings_.seed_rad;
   summary_.min_margin = std::numeric_limits<double>::infinity();
@@ -286,6 +290,77 @@ void RobotAlongPath::contact_deflect(const PathSample& sample, const tool::Tool&
   out.deflection_m = frame * Eigen::Vector3d(tip.x(), tip.y(), out.floor_error_m);
   out.form_error_m = worst;
   out.contact = true;
+}
+
+// The periodic force of a sample's engagement as 004 §4.2's Fourier series,
+// once per cutter, arc, depth, feed and speed: a straight cut's samples
+// share it. An arc that starts at φ = 0 or ends at π is the straight band of
+// the cutting/process.hpp constructor (what `robomill optimize` builds from
+// the job's process); any other arc is the general engagement over the
+// depth.
+std::shared_ptr<const planning::ForceHarmonics> RobotAlongPath::force_series(
+    const tool::Tool& tool, const PathSample& sample) const {
+  const double depth = std::min(sample.axial_depth_m, tool.overhang_m());
+  const double spindle = std::abs(sample.spindle_rad_s);
+  const auto key = std::make_tuple(&tool, sample.entry_rad, sample.exit_rad, depth,
+                                   sample.feed_per_tooth_m, spindle);
+  {
+    const std::lock_guard lock(force_mutex_);
+    if (const auto it = force_cache_.find(key); it != force_cache_.end())
+      return it->second;
+  }
+  const int elements = settings_.offset.axial_elements > 0
+                           ? settings_.offset.axial_elements
+                           : cutting::default_axial_elements(tool, depth);
+  constexpr double kExact = 1e-9;  // the band's edge as the engagement gives it
+  const double radius = 0.5 * tool.diameter_m();
+  std::optional<cutting::MillingForceModel> model;
+  const bool starts = sample.entry_rad <= kExact, ends = std::abs(sample.exit_rad - kPi) <= kExact;
+  const bool band = (starts || ends) && starts == (sample.entry_rad <= kBandEdgeRad) &&
+                    ends == (std::abs(sample.exit_rad - kPi) <= kBandEdgeRad);
+  if (band) {
+    cutting::MillingProcess process = *band_process(
+        std::max(0.0, sample.entry_rad), sample.exit_rad, radius, spindle, sample.feed_per_tooth_m);
+    process.axial_depth_m = depth;
+    model.emplace(tool, law_, process, elements);
+  } else {
+    cutting::GeneralEngagement general;
+    general.spindle_rad_s = spindle;
+    general.feed_per_tooth_m = sample.feed_per_tooth_m;
+    general.axial_depth_m = depth;
+    general.slice_top_m = {depth};
+    general.arcs = {{{sample.entry_rad, sample.exit_rad}}};
+    model.emplace(tool, law_, general, elements);
+  }
+  auto series = std::make_shared<const planning::ForceHarmonics>(
+      planning::force_harmonics(*model, settings_.offset.samples, settings_.offset.harmonics));
+  const std::lock_guard lock(force_mutex_);
+  constexpr std::size_t kMaxCached = 4096;  // a ramp's depths do not repeat
+  if (force_cache_.size() < kMaxCached)
+    force_cache_.emplace(key, series);
+  return series;
+}
+
+// 004 Eq 1-2 at the sample's posture: the harmonic steady state of the
+// robot's joint-space model under the force series turned from the
+// sample's milling frame (004's R_ni: x the feed, z the tool axis) into the
+// cell.
+void RobotAlongPath::steady_offset(const PathSample& sample, RobotSample& out) const {
+  const tool::Tool* tool = find_tool(tooling_, sample.tool);
+  if (!settings_.offset.enabled || !sample.analysed || !out.reachable || !tool ||
+      sample.kind == MotionKind::rapid || sample.plunge || !(sample.axial_depth_m > 0.0) ||
+      !(sample.feed_per_tooth_m > 0.0) || !(sample.exit_rad > sample.entry_rad))
+    return;
+  const std::shared_ptr<const planning::ForceHarmonics> series = force_series(*tool, sample);
+  thread_local planning::OffsetWorkspace workspace;
+  const planning::PostureDynamics dynamics =
+      planning::posture_dynamics(model_, Eigen::VectorXd(out.q_rad));
+  const Eigen::Matrix3d tool_to_cell = settings_.workpiece_to_cell.linear() * milling_frame(sample);
+  const planning::OffsetMeasure measure = settings_.offset.measure;
+  const planning::OffsetResponse response = planning::steady_state_offset(
+      dynamics, tool_to_cell, *series, workspace, measure == planning::OffsetMeasure::startup);
+  out.steady_offset_m = response.measure(measure);
+  out.has_offset = true;
 }
 
 Eigen::Matrix3d RobotAlongPath::mean_stiffness(const tool::Tool& tool,
@@ -485,8 +560,10 @@ void RobotAlongPath::evaluate(std::span<const PathSample> samples, std::span<Rob
     out[i] = RobotSample{};
     posture(samples[i], out[i]);
   }
-  core::parallel_for(samples.size(), settings_.threads,
-                     [&](std::size_t i) { deflect(samples[i], out[i]); });
+  core::parallel_for(samples.size(), settings_.threads, [&](std::size_t i) {
+    deflect(samples[i], out[i]);
+    steady_offset(samples[i], out[i]);
+  });
   limits(samples, out);
   for (std::size_t i = 0; i < samples.size(); ++i)
     tally(samples[i], out[i]);
@@ -523,6 +600,15 @@ void RobotAlongPath::tally(const PathSample& s, const RobotSample& r) {
   if (std::abs(r.form_error_m) > summary_.max_form_error_m) {
     summary_.max_form_error_m = std::abs(r.form_error_m);
     summary_.max_form_error_line = s.line;
+  }
+  if (r.has_offset) {
+    ++summary_.offset_samples;
+    offset_sum_m_ += r.steady_offset_m;
+    summary_.mean_offset_m = offset_sum_m_ / static_cast<double>(summary_.offset_samples);
+    if (r.steady_offset_m > summary_.max_offset_m) {
+      summary_.max_offset_m = r.steady_offset_m;
+      summary_.max_offset_line = s.line;
+    }
   }
   if (!r.stability)
     return;

@@ -271,3 +271,38 @@ TEST(ForceSampling, ResultsDoNotDependOnThreadCount) {
 }
 
 }  // namespace
+
+namespace {
+
+// A ball-nose plunge (no lateral feed) with 004's size-dependent law: the
+// law's mean chip is the axial feed's 2/π |fz,axial| (milling_forces.cpp),
+// so the model exists and pushes the cutter back up its axis; a flat end
+// mill's side edges (κ = π/2) have no chip and no force.
+TEST(MillingForceModel, PlungeWithTheSizeDependentLawHasAChipFromTheAxialFeed) {
+  const cutting::SizeDependentLaw law{387e6, -0.327, 0.0018, -0.224, 1e-3};
+  tool::ToolSpec spec;
+  spec.type = tool::ToolType::ball;
+  spec.diameter_m = 10e-3;
+  spec.teeth = 2;
+  spec.helix_rad = 30.0 * kDeg;
+  spec.overhang_m = 40e-3;
+  cutting::GeneralEngagement plunge;
+  plunge.spindle_rad_s = 1000.0;
+  plunge.feed_per_tooth_m = 0.0;
+  plunge.axial_feed_per_tooth_m = -0.05e-3;
+  plunge.axial_depth_m = 2e-3;
+  plunge.slice_top_m = {2e-3};
+  plunge.arcs = {{{0.0, 2.0 * kPi}}};
+  const cutting::MillingForceModel ball(tool::Tool(spec), law, plunge, 10);
+  EXPECT_NEAR(ball.mean_chip_m(), 2.0 / kPi * 0.05e-3, 1e-15);
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (int k = 0; k < 360; ++k)
+    mean += ball.at(2.0 * kPi * k / 360.0).force_n / 360.0;
+  EXPECT_GT(std::abs(mean.z()), 10.0 * mean.head<2>().norm()) << mean.transpose();
+
+  const cutting::MillingForceModel flat(flat_tool(2, 30.0, 10e-3), law, plunge, 10);
+  for (int k = 0; k < 36; ++k)
+    EXPECT_EQ(flat.at(2.0 * kPi * k / 36.0).force_n.norm(), 0.0);
+}
+
+}  // namespace

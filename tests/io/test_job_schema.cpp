@@ -120,7 +120,10 @@ tool: {diameter: 10 mm, teeth: 3, overhang: 40 mm}
 cutting: {law: linear, Ktc: 800 N/mm^2}
 toolpath: {file: programs/pocket.nc, max_size: 8}
 stock: {box: {min: [0, 0, 0], max: [60, 40, 20]}, height_map: earlier/stock.csv}
-robot_path: {redundancy_search: {from: -30 deg, to: 30 deg, count: 5}, deflection: contact}
+robot_path:
+  redundancy_search: {from: -30 deg, to: 30 deg, count: 5}
+  deflection: contact
+  offset: {measure: rms, harmonics: 20, samples: 64}
 )",
     // robomill listen: one recording with every key, and the detector's settings.
     R"(name: kitchen sink 4

@@ -323,6 +323,15 @@ struct RobotPathJobSettings {
     int line = 0;
   };
   std::optional<FeedLimits> feed_limits;
+  /// `offset:` — 004's steady-state offset at every sample
+  /// (RobotPathSettings::offset); unset keys take the job's `optimize:`
+  /// values, else peak, 60 harmonics, 256 samples.
+  struct Offset {
+    std::optional<planning::OffsetMeasure> measure;  ///< `measure`
+    std::optional<int> harmonics, samples;           ///< `harmonics`, `samples`
+    int line = 0;
+  };
+  std::optional<Offset> offset;
   int line = 0;
 };
 

@@ -16,7 +16,11 @@
 //    robot's compliance at the posture, 000 Eq 3 / 004 Eq 2 at ω = 0, plus
 //    the tool as a cantilever loaded at the middle of the engaged depth, 000
 //    Eq 1), projected on the normal of the wall the sample finishes (the
-//    surface location error) and on the tool axis (the floor).
+//    surface location error) and on the tool axis (the floor);
+//  - on request, 004's steady-state tool-tip offset (§3.1 Eq 1-2): the
+//    robot's joint-space model at the posture under the periodic force of
+//    the sample's own engagement, as `robomill optimize` takes it at each
+//    point of its path (planning/steady_state_offset.hpp).
 //
 // The shortcut. The posture changes slowly along a path but the zero-order
 // limit costs a solver per sample. Along every run of samples that share the
@@ -33,6 +37,7 @@
 #include <cstddef>
 #include <functional>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <span>
@@ -42,6 +47,8 @@
 
 #include "robomill/cutting/cutting_law.hpp"
 #include "robomill/dynamics/modal_model.hpp"
+#include "robomill/planning/force_harmonics.hpp"
+#include "robomill/planning/steady_state_offset.hpp"
 #include "robomill/robot/posture_interpolation.hpp"
 #include "robomill/robot/robot_model.hpp"
 #include "robomill/stability/process_damping.hpp"
@@ -110,6 +117,19 @@ struct RobotPathSettings {
     int elements = 10;            ///< m axial elements (000: dz = ap/m)
     bool chip_correction = true;  ///< 000 Eq 21/28's static-chip correction
   } contact;
+  /// 004's steady-state offset (§3.1 Eq 1-2, §3.3) at every reachable
+  /// sample in the cut: M(q), C, K and Jv of the robot's joint-space model
+  /// at the sample's posture, the force of the sample's engaged arc, depth,
+  /// feed and speed as a Fourier series (004 §4.2) in its milling frame
+  /// (x the feed, z the tool axis: 004's R_ni). The robot needs its links'
+  /// masses. d_m (004 Eq 6) is then the mean over those samples.
+  struct SteadyOffset {
+    bool enabled = false;
+    planning::OffsetMeasure measure = planning::OffsetMeasure::peak;
+    int harmonics = 60;      ///< force harmonics kept
+    int samples = 256;       ///< instants per period (≥ 2 harmonics + 1)
+    int axial_elements = 0;  ///< of the force model (0: the default for the depth)
+  } offset;
   int threads = 0;  ///< 0: all cores
   std::size_t worst_lines = 10;
 };
@@ -141,6 +161,9 @@ struct RobotSample {
   /// (RobotPathSettings::contact): the tip node's deflection, and the wall's
   /// largest surface location error over the nodes that generate it.
   bool contact = false;
+  /// 004's steady-state offset d_i (RobotPathSettings::offset's measure), m.
+  double steady_offset_m = 0.0;
+  bool has_offset = false;  ///< steady_offset_m was computed at this sample
 };
 
 /// One program line among the worst, with the advice for it.
@@ -166,6 +189,11 @@ struct RobotPathSummary {
   double max_form_error_m = 0.0, max_deflection_m = 0.0, max_floor_error_m = 0.0;
   int max_form_error_line = 0;
   std::size_t contact_samples = 0;  ///< deflections by 000's contact boundary
+  /// 004's steady-state offset: samples with one, their mean (004 Eq 6's
+  /// d_m over the program's samples) and the largest.
+  std::size_t offset_samples = 0;
+  double mean_offset_m = 0.0, max_offset_m = 0.0;
+  int max_offset_line = 0;
   std::size_t exact_limits = 0;     ///< zero-order solves (the shortcut's cost)
   std::size_t checked = 0;          ///< interpolated samples also computed exactly
   double shortcut_max_error = 0.0;  ///< largest relative error among them
@@ -231,6 +259,10 @@ class RobotAlongPath {
   using ArcKey = std::tuple<const tool::Tool*, double, double, double>;
   mutable std::map<ArcKey, Eigen::Matrix3d> a0_cache_;  // A0 per cutter and engaged arc
   mutable std::mutex a0_mutex_;
+  using ForceKey = std::tuple<const tool::Tool*, double, double, double, double, double>;
+  mutable std::map<ForceKey, std::shared_ptr<const planning::ForceHarmonics>> force_cache_;
+  mutable std::mutex force_mutex_;
+  double offset_sum_m_ = 0.0;
 
   Eigen::Matrix3d mean_stiffness(const tool::Tool& tool, const PathSample& sample) const;
 
@@ -238,6 +270,9 @@ class RobotAlongPath {
   void deflect(const PathSample& sample, RobotSample& out) const;
   void contact_deflect(const PathSample& sample, const tool::Tool& tool,
                        const Eigen::Matrix3d& frame, RobotSample& out) const;
+  std::shared_ptr<const planning::ForceHarmonics> force_series(const tool::Tool& tool,
+                                                               const PathSample& sample) const;
+  void steady_offset(const PathSample& sample, RobotSample& out) const;
   void limits(std::span<const PathSample> samples, std::span<RobotSample> out);
   void tally(const PathSample& sample, const RobotSample& out);
 };
