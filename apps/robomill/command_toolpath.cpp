@@ -198,6 +198,10 @@ nlohmann::json robot_summary(const io::RobotPathSetup& setup, const toolpath::Ro
       {"dof", along.model().dof()},
       {"structure", setup.structure_source},
       {"redundancy_deg", setup.settings.redundancy_rad * kDegPerRad},
+      {"redundancy_source", r.oriented_samples > 0 ? "program" : "job"},
+      {"oriented_samples", r.oriented_samples},
+      {"redundancy_range_deg",
+       {r.min_redundancy_rad * kDegPerRad, r.max_redundancy_rad * kDegPerRad}},
       {"samples", r.samples},
       {"analysed_samples", r.analysed},
       {"stability_samples", r.stability_samples},
@@ -477,7 +481,15 @@ nlohmann::json optimize_program(const io::Job& job, const toolpath::Program& pro
   std::vector<toolpath::RecordedSample> recorded = record.recorded;
   toolpath::RobotPathSettings after_settings = setup.settings;
   nlohmann::json redundancy = nullptr;
-  if (job.robot_path && !job.robot_path->redundancy_search_rad.empty()) {
+  const bool oriented = std::any_of(program.moves.begin(), program.moves.end(),
+                                    [](const toolpath::Move& m) { return m.oriented; });
+  if (job.robot_path && !job.robot_path->redundancy_search_rad.empty() && oriented) {
+    redundancy = {{"programmed_deg", nullptr},
+                  {"note",
+                   "the program's frames fix the tool's rotation about its axis (ψ per sample, "
+                   "psi_deg): robot_path.redundancy_search is not applied"}};
+    message += "  optimize: the program's frames fix ψ; redundancy_search not applied\n";
+  } else if (job.robot_path && !job.robot_path->redundancy_search_rad.empty()) {
     const toolpath::RedundancyChoice psi = toolpath::choose_redundancy_angle(
         before, recorded, job.robot_path->redundancy_search_rad, 0.02, threads);
     after_settings.redundancy_rad = psi.chosen_rad;

@@ -215,6 +215,7 @@ class KrlReader {
 
   Frame6 resolve(const Statement& s, const Target& t, std::string_view word) const;
   Vector3d tool_axis(const Frame6& f) const;
+  Vector3d tool_x(const Frame6& f) const;
   Vector3d program_point(const Frame6& f) const {
     return base_ * (kMillimetre * Vector3d(f[kX], f[kY], f[kZ]));
   }
@@ -237,7 +238,8 @@ class KrlReader {
   std::optional<Frame6> current_;     // the TCP frame in the base in force
   std::optional<Vector3d> position_;  // the tip in the program frame
   Vector3d position_axis_ = Vector3d::UnitZ();
-  bool air_move_pending_ = false;  // a PTP to an axis position left the tip unknown
+  Vector3d position_x_ = Vector3d::UnitX();  // robomill's tool x there (tool_x)
+  bool air_move_pending_ = false;            // a PTP to an axis position left the tip unknown
   int air_move_line_ = 0;
   double vel_cp_m_s_ = 0.0;
   bool vel_cp_set_ = false;
@@ -606,6 +608,16 @@ Vector3d KrlReader::tool_axis(const Frame6& f) const {
   return -working.normalized();
 }
 
+// robomill's tool frame has z along the axis (tip → spindle); its x is the
+// TCP frame's axis that stays normal to the tool, renamed so the frame stays
+// right-handed: (x, y, z) = (Z, Y, −X) with #X, (X, −Y, −Z) with #Z. The
+// usual A 0, B 90, C 0 with #X is then robomill's ψ = 0 (x along the base's
+// +X, z up), and A turns the tool about its axis by A.
+Vector3d KrlReader::tool_x(const Frame6& f) const {
+  const Eigen::Matrix3d r = base_.linear() * rotation_abc(f[kA], f[kB], f[kC]);
+  return (options_.tool_direction == 'z' ? r.col(0) : r.col(2)).normalized();
+}
+
 // ---------------------------------------------------------------------------
 // Motion.
 
@@ -621,6 +633,7 @@ void KrlReader::finish(Move& move, const Statement& s, const Frame6& f) {
   program_.moves.push_back(move);
   position_ = move.end_m;
   position_axis_ = move.axis_end;
+  position_x_ = move.tool_x_end;
   current_ = f;
 }
 
@@ -631,6 +644,7 @@ void KrlReader::move_to(const Statement& s, MotionKind kind, const Frame6& f) {
     note(s.line, "the program's first Cartesian point: no move before it is modelled");
     position_ = end;
     position_axis_ = axis;
+    position_x_ = tool_x(f);
     current_ = f;
     return;
   }
@@ -646,6 +660,9 @@ void KrlReader::move_to(const Statement& s, MotionKind kind, const Frame6& f) {
   move.end_m = end;
   move.axis_start = position_axis_;
   move.axis_end = axis;
+  move.oriented = true;
+  move.tool_x_start = position_x_;
+  move.tool_x_end = tool_x(f);
   finish(move, s, f);
 }
 
@@ -774,6 +791,9 @@ void KrlReader::circ(const Statement& s, std::string_view rest, bool relative) {
   }
   move.axis_start = position_axis_;
   move.axis_end = tool_axis(end);
+  move.oriented = true;
+  move.tool_x_start = position_x_;
+  move.tool_x_end = tool_x(end);
   finish(move, s, end);
 }
 
@@ -961,6 +981,8 @@ void KrlReader::wait(const Statement& s, std::string_view rest) {
     move.kind = MotionKind::dwell;
     move.start_m = move.end_m = *position_;
     move.axis_start = move.axis_end = position_axis_;
+    move.oriented = true;
+    move.tool_x_start = move.tool_x_end = position_x_;
     move.dwell_s = t;
     move.tool = tool_;
     move.line = s.line;

@@ -75,6 +75,17 @@ Eigen::Vector3d axis_at(const Move& move, double u) noexcept {
   return (identity.slerp(std::clamp(u, 0.0, 1.0), rotation) * move.axis_start).normalized();
 }
 
+Eigen::Vector3d tool_x_at(const Move& move, double u) noexcept {
+  const Eigen::Vector3d axis = axis_at(move, u);
+  auto normal_part = [&](const Eigen::Vector3d& x) -> Eigen::Vector3d {
+    const Eigen::Vector3d n = x - x.dot(axis) * axis;
+    return n.norm() > 1e-9 ? Eigen::Vector3d(n.normalized()) : axis.unitOrthogonal();
+  };
+  const Eigen::Vector3d from = normal_part(move.tool_x_start), to = normal_part(move.tool_x_end);
+  const double angle = std::atan2(from.cross(to).dot(axis), from.dot(to));
+  return Eigen::AngleAxisd(std::clamp(u, 0.0, 1.0) * angle, axis) * from;
+}
+
 double duration_s(const Move& move, double rapid_m_s) noexcept {
   switch (move.kind) {
     case MotionKind::dwell:
@@ -94,6 +105,8 @@ void apply_transform(Program& program, const Eigen::Isometry3d& program_to_workp
     move.centre_m = program_to_workpiece * move.centre_m;
     move.axis_start = rotation * move.axis_start;
     move.axis_end = rotation * move.axis_end;
+    move.tool_x_start = rotation * move.tool_x_start;
+    move.tool_x_end = rotation * move.tool_x_end;
     move.normal = rotation * move.normal;
   }
 }

@@ -278,6 +278,9 @@ ProgramAnalysis analyse_program(const Program& program, const Tooling& tooling,
       sample.tip_m = position_at(move, u);
       sample.axis = axis_at(move, u);
       sample.feed_direction = tangent_at(move, u);
+      sample.oriented = move.oriented;
+      if (move.oriented)
+        sample.tool_x = tool_x_at(move, u);
       sample.feed_m_s = move.feed_m_s;
       sample.spindle_rad_s = spindle_rad_s;
 

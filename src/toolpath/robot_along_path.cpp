@@ -169,6 +169,14 @@ RobotSample RobotAlongPath::posture_at(const PathSample& sample, double redundan
   ik.position_tolerance_m = 1e-9;
   ik.orientation_tolerance_rad = 1e-9;
   ik.restarts = 0;  // follow the configuration of the sample before
+  // A program that fixes the tool's rotation about its axis (a KRL frame)
+  // sets ψ itself: the angle from ψ = 0's x (the cell's x normal to the
+  // axis, robot::tool_orientation_about_axis) to the program's x.
+  if (sample.oriented) {
+    const Eigen::Vector3d x0 = robot::tool_orientation_about_axis(axis, 0.0).col(0);
+    const Eigen::Vector3d x = settings_.workpiece_to_cell.linear() * sample.tool_x;
+    redundancy_rad = std::atan2(x0.cross(x).dot(axis), x0.dot(x));
+  }
   robot::IkResult solution =
       robot::inverse_kinematics_about_axis(model_, tip, axis, redundancy_rad, seed_rad, ik);
   if (!solution.converged) {
@@ -572,6 +580,7 @@ void RobotAlongPath::evaluate(std::span<const PathSample> samples, std::span<Rob
 void RobotAlongPath::tally(const PathSample& s, const RobotSample& r) {
   ++summary_.samples;
   summary_.contact_samples += r.contact ? 1 : 0;
+  summary_.oriented_samples += s.oriented ? 1 : 0;
   const bool in_material = s.analysed && s.kind != MotionKind::rapid;
   if (!r.reachable) {
     ++summary_.unreachable;
@@ -582,6 +591,11 @@ void RobotAlongPath::tally(const PathSample& s, const RobotSample& r) {
       summary_.unreachable_lines.push_back(s.line);
     return;
   }
+  const bool first = summary_.samples == summary_.unreachable + 1;  // the first reachable
+  summary_.min_redundancy_rad =
+      first ? r.redundancy_rad : std::min(summary_.min_redundancy_rad, r.redundancy_rad);
+  summary_.max_redundancy_rad =
+      first ? r.redundancy_rad : std::max(summary_.max_redundancy_rad, r.redundancy_rad);
   if (r.joint_limit) {
     ++summary_.joint_limit;
     if (summary_.first_joint_limit_line == 0)

@@ -184,4 +184,37 @@ assert compared >= 12, compared
 print(f"004 groove at pose 6: {compared} band points within 2.5 % of optimize's d_i; "
       f"program d_m {offset['dm_um']:.1f} um over {offset['samples']} samples")
 PYEOF
+# A KRL program's frames set ψ at every sample (the rotation about the tool
+# axis): the example pocket in KRL on the KR 270, as written (A 0, B 90: ψ = 0)
+# and with every frame turned by A 30. The spindle lies along joint 6, so the
+# turn moves joint 6 by 30° and nothing else (q1-q5 within 1e-6°).
+KRL_TOOLPATH='{format: krl, bases: {1: [0, 0, 0, 0, 0, 0]}, tool_direction: x, spindle: 8000 rpm, spacing: 0.5 mm, tools: {T1: {type: flat, diameter: 10 mm, teeth: 3, helix: 30 deg, overhang: 40 mm}}}'
+for case in a0:$SOURCE/examples/programs/pocket a30:$P/pocket_a30; do
+  name=${case%%:*} program=${case#*:}
+  "$ROBOMILL" toolpath "$R" --out "$WORK/krl_$name" --quiet --set "toolpath=$KRL_TOOLPATH" \
+    --set "toolpath.file=$program.src" --set "toolpath.dat=$program.dat" \
+    || fail "KRL pocket $name on the robot exit code"
+done
+/usr/bin/python3 - "$WORK/krl_a0" "$WORK/krl_a30" <<'PYEOF' || fail "KRL frames' ψ"
+import csv, json, sys
+runs = []
+for folder in sys.argv[1:]:
+    summary = json.load(open(folder + "/summary.json"))["robot_along_path"]
+    assert summary["redundancy_source"] == "program", summary["redundancy_source"]
+    assert summary["oriented_samples"] == summary["samples"], summary
+    runs.append((summary, list(csv.DictReader(open(folder + "/samples.csv")))))
+(s0, a0), (s30, a30) = runs
+assert s0["redundancy_range_deg"] == [0.0, 0.0], s0["redundancy_range_deg"]
+assert all(abs(v - 30.0) < 1e-9 for v in s30["redundancy_range_deg"]), s30["redundancy_range_deg"]
+assert len(a0) == len(a30) > 500, (len(a0), len(a30))
+for r0, r30 in zip(a0, a30):
+    if r0["reachable"] != "1":
+        continue
+    assert abs(float(r30["psi_deg"]) - 30.0) < 1e-9, r30["psi_deg"]
+    for j in range(1, 6):
+        assert abs(float(r0[f"q{j}_deg"]) - float(r30[f"q{j}_deg"])) < 1e-6, (j, r0["line"])
+    turn = (float(r30["q6_deg"]) - float(r0["q6_deg"]) + 180.0) % 360.0 - 180.0
+    assert abs(abs(turn) - 30.0) < 1e-6, (turn, r0["line"])
+print(f"KRL frames: psi 0 and 30 deg over {len(a0)} samples; joint 6 turns by 30 deg, q1-q5 kept")
+PYEOF
 finish

@@ -86,6 +86,34 @@ TEST(KrlReader, OrientationIsZYXAnglesAndTheToolWorksAlongMinusItsAxis) {
   expect_near(axis_for("A 0,B 0,C 180", 'z'), Vector3d(0, 0, 1), 1e-12);
 }
 
+// The frames' rotation about the tool axis reaches the moves (Move::oriented,
+// tool_x_start/end): robomill's tool x is the TCP frame's Z with #X, its X
+// with #Z. With #X and B 90 the tool points down and A turns it about its
+// axis: Rz(A)·Ry(90)·ez = Rz(A)·ex = (cos A, sin A, 0).
+TEST(KrlReader, FramesFixTheToolsRotationAboutItsAxis) {
+  const Program p =
+      krl("$VEL.CP=0.01\nLIN {X 0,Y 0,Z 0,A 0,B 90,C 0}\nLIN {X 10,Y 0,Z 0,A 30,B 90,C 0}\n"
+          "WAIT SEC 1\n");
+  ASSERT_EQ(p.moves.size(), 2u);
+  EXPECT_TRUE(p.moves[0].oriented);
+  expect_near(p.moves[0].tool_x_start, Vector3d(1, 0, 0), 1e-12);
+  expect_near(p.moves[0].tool_x_end, Vector3d(std::cos(kPi / 6), 0.5, 0), 1e-12);
+  // Halfway the tool has turned 15° about its axis (+Z).
+  expect_near(robomill::toolpath::tool_x_at(p.moves[0], 0.5),
+              Vector3d(std::cos(kPi / 12), std::sin(kPi / 12), 0), 1e-12);
+  EXPECT_TRUE(p.moves[1].oriented);  // the dwell keeps the rotation
+  expect_near(p.moves[1].tool_x_end, Vector3d(std::cos(kPi / 6), 0.5, 0), 1e-12);
+  // #Z: x is the TCP frame's X; Rx(180) keeps ex: the tool down, x along +X.
+  const Program z =
+      krl("$VEL.CP=0.01\nLIN {X 0,Y 0,Z 0,A 0,B 0,C 180}\nLIN {X 10,Y 0,Z 0}\n", "", 'z');
+  ASSERT_EQ(z.moves.size(), 1u);
+  expect_near(z.moves[0].axis_end, Vector3d(0, 0, 1), 1e-12);
+  expect_near(z.moves[0].tool_x_end, Vector3d(1, 0, 0), 1e-12);
+  // Every move's x is normal to its axis, right-handed with it (x, axis × x, axis).
+  for (const auto& move : p.moves)
+    EXPECT_NEAR(move.tool_x_end.dot(move.axis_end), 0.0, 1e-12);
+}
+
 TEST(KrlReader, PositionsAreMillimetresAndFeedIsVelCp) {
   const Program p =
       krl("$VEL.CP=0.2\nLIN {X 10,Y 20,Z 30,A 0,B 90,C 0}\nLIN {X 15,Y 20,Z 30} C_DIS\n");

@@ -388,6 +388,46 @@ TEST(RobotAlongPath, PosturesReachTheTipWithTheRedundancyAngle) {
   }
 }
 
+// A program that fixes the tool's rotation about its axis (a KRL frame,
+// PathSample::oriented) sets ψ at each sample: the robot's tool x lands on
+// the program's x (in the cell), whatever robot_path.redundancy says.
+TEST(RobotAlongPath, OrientedSamplesTakeTheProgramsRedundancyAngle) {
+  Fixture f("robot_path: {redundancy: 20 deg}\n");
+  RobotAlongPath along = f.along();
+  const double entry = kPi - std::acos(1.0 - 2.5 / 5.0);
+  std::vector<PathSample> samples;
+  for (const double psi_deg : {-30.0, 0.0, 40.0}) {
+    PathSample s = side_cut_sample((10.0 + psi_deg) * 1e-3 + 40e-3, entry, kPi);
+    s.oriented = true;
+    s.tool_x = Eigen::Vector3d(std::cos(psi_deg * kPi / 180.0), std::sin(psi_deg * kPi / 180.0), 0);
+    samples.push_back(s);
+  }
+  samples.push_back(side_cut_sample(60e-3, entry, kPi));  // not oriented: the job's 20°
+  std::vector<RobotSample> out(samples.size());
+  along.evaluate(samples, out);
+  const Eigen::Matrix3d to_cell = f.setup.settings.workpiece_to_cell.linear();
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    ASSERT_TRUE(out[i].reachable) << i;
+    const Eigen::Matrix3d tool = robot::tool_pose(*f.setup.model, out[i].q_rad).linear();
+    const Eigen::Vector3d expected_x =
+        samples[i].oriented
+            ? Eigen::Vector3d(to_cell * samples[i].tool_x)
+            : robot::tool_orientation_about_axis(to_cell * samples[i].axis, 20.0 * kPi / 180.0)
+                  .col(0);
+    EXPECT_LT((tool.col(0) - expected_x).norm(), 1e-7) << i;
+    EXPECT_LT((tool.col(2) - to_cell * samples[i].axis).norm(), 1e-7) << i;
+  }
+  // The cell x is the workpiece x here (θp = 0), so ψ is the program's angle.
+  EXPECT_NEAR(out[0].redundancy_rad, -30.0 * kPi / 180.0, 1e-12);
+  EXPECT_NEAR(out[1].redundancy_rad, 0.0, 1e-12);
+  EXPECT_NEAR(out[2].redundancy_rad, 40.0 * kPi / 180.0, 1e-12);
+  EXPECT_NEAR(out[3].redundancy_rad, 20.0 * kPi / 180.0, 1e-12);
+  const RobotPathSummary summary = along.finish();
+  EXPECT_EQ(summary.oriented_samples, 3u);
+  EXPECT_NEAR(summary.min_redundancy_rad, -30.0 * kPi / 180.0, 1e-12);
+  EXPECT_NEAR(summary.max_redundancy_rad, 40.0 * kPi / 180.0, 1e-12);
+}
+
 TEST(RobotAlongPath, UnreachableSamplesAreReportedByLineNotSkipped) {
   Fixture f;
   RobotAlongPath along = f.along();

@@ -36,6 +36,14 @@ struct Move {
   /// interpolate it (great-circle), arcs keep the start's.
   Eigen::Vector3d axis_start = Eigen::Vector3d::UnitZ();
   Eigen::Vector3d axis_end = Eigen::Vector3d::UnitZ();
+  /// The tool's rotation about its axis where the program fixes it (a KRL
+  /// frame's A, B, C): the x axis of robomill's tool frame (unit, normal to
+  /// the axis; z is the axis) at the start and the end, turned about the
+  /// axis in between (tool_x_at). `oriented` false: the program leaves the
+  /// rotation to the cell (G-code, APT), the redundancy angle ψ of the job.
+  bool oriented = false;
+  Eigen::Vector3d tool_x_start = Eigen::Vector3d::UnitX();
+  Eigen::Vector3d tool_x_end = Eigen::Vector3d::UnitX();
   /// Arcs only: the circle's centre (in the plane of the start point), the
   /// unit normal of the arc's plane, and the signed sweep angle about that
   /// normal (right-hand rule; positive = counter-clockwise seen from the
@@ -96,6 +104,12 @@ Eigen::Vector3d tangent_at(const Move& move, double u) noexcept;
 /// Tool axis at u: spherical linear interpolation between axis_start and
 /// axis_end for linear moves, axis_start otherwise.
 Eigen::Vector3d axis_at(const Move& move, double u) noexcept;
+
+/// The tool frame's x at u for an oriented move: the start's and the end's x
+/// projected normal to axis_at(u), turned from the first towards the second
+/// by u × the angle between them about that axis (KRL's orientation
+/// interpolation about the tool axis). Unit; meaningless when !oriented.
+Eigen::Vector3d tool_x_at(const Move& move, double u) noexcept;
 
 /// Time the move takes (s): length / feed for feed moves, `rapid_m_s` for
 /// rapids, dwell_s for dwells.

@@ -62,6 +62,10 @@ struct PathSample {
   Eigen::Vector3d tip_m = Eigen::Vector3d::Zero();
   Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();
   Eigen::Vector3d feed_direction = Eigen::Vector3d::UnitX();  ///< unit direction of travel
+  /// The tool frame's x where the program fixes the rotation about the axis
+  /// (Move::oriented, a KRL frame): it sets the robot's ψ at this sample.
+  bool oriented = false;
+  Eigen::Vector3d tool_x = Eigen::Vector3d::UnitX();
   double feed_m_s = 0.0;
   double spindle_rad_s = 0.0;
   double feed_per_tooth_m = 0.0;  ///< the lateral feed per tooth (normal to the axis)

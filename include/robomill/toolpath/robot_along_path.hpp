@@ -93,7 +93,9 @@ struct PathStabilitySettings {
 struct RobotPathSettings {
   /// Workpiece frame → cell frame (004 Eq 7: p_c + p_w + R_w(θp) p).
   Eigen::Isometry3d workpiece_to_cell = Eigen::Isometry3d::Identity();
-  double redundancy_rad = 0.0;  ///< ψ about the tool axis (001 §2.1.4), every sample
+  /// ψ about the tool axis (001 §2.1.4) at every sample the program leaves
+  /// it to the cell; an oriented sample (a KRL frame) takes the program's.
+  double redundancy_rad = 0.0;
   /// The IK's first seed (rad, one per joint); each later sample starts from
   /// the posture before it, so the robot follows one configuration.
   Eigen::VectorXd seed_rad;
@@ -189,6 +191,10 @@ struct RobotPathSummary {
   double max_form_error_m = 0.0, max_deflection_m = 0.0, max_floor_error_m = 0.0;
   int max_form_error_line = 0;
   std::size_t contact_samples = 0;  ///< deflections by 000's contact boundary
+  /// Samples whose ψ the program's frames set (PathSample::oriented), and
+  /// the range of ψ over the reachable samples.
+  std::size_t oriented_samples = 0;
+  double min_redundancy_rad = 0.0, max_redundancy_rad = 0.0;
   /// 004's steady-state offset: samples with one, their mean (004 Eq 6's
   /// d_m over the program's samples) and the largest.
   std::size_t offset_samples = 0;
@@ -219,7 +225,8 @@ class RobotAlongPath {
   /// The totals so far, with the worst lines' advice computed.
   RobotPathSummary finish();
 
-  /// The robot at a sample with redundancy angle ψ, the inverse kinematics
+  /// The robot at a sample with redundancy angle ψ (the program's own where
+  /// the sample is oriented: PathSample::tool_x), the inverse kinematics
   /// starting from `seed_rad` (the posture only: no limit, no deflection).
   RobotSample posture_at(const PathSample& sample, double redundancy_rad,
                          const Eigen::VectorXd& seed_rad) const;
