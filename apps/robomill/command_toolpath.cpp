@@ -8,6 +8,7 @@
 #include <cmath>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <numbers>
 #include <set>
@@ -21,6 +22,7 @@
 #include "robomill/io/robot_path.hpp"
 #include "robomill/io/summary.hpp"
 #include "robomill/robot/kinematics.hpp"
+#include "robomill/toolpath/deflection_compensation.hpp"
 #include "robomill/toolpath/feed_schedule.hpp"
 #include "robomill/toolpath/program_analysis.hpp"
 #include "robomill/toolpath/program_optimization.hpp"
@@ -461,6 +463,173 @@ std::vector<io::FeedEdit> feed_edits(const toolpath::Program& program,
   return io::with_feed_restores(program, std::move(changed));
 }
 
+// Median, 90th percentile and largest of a sample (0 for none).
+struct Percentiles {
+  double median = 0.0, p90 = 0.0, max = 0.0;
+};
+Percentiles percentiles(std::vector<double> values) {
+  Percentiles p;
+  if (values.empty())
+    return p;
+  std::sort(values.begin(), values.end());
+  const auto at = [&](double q) {
+    return values[std::min(values.size() - 1, static_cast<std::size_t>(q * values.size()))];
+  };
+  p.median = at(0.5);
+  p.p90 = at(0.9);
+  p.max = values.back();
+  return p;
+}
+
+// The deflection compensation (toolpath/deflection_compensation.hpp) of the
+// program --optimize has written: the corrections collected on its analysis
+// (the after-run), written in the program's own frame and units, read back
+// and checked move by move against the corrected path, then analysed once
+// more for the residual against the path the CAM wrote.
+nlohmann::json compensate_program(const io::Job& job, const io::RobotPathSetup& setup,
+                                  const toolpath::Tooling& tooling,
+                                  const toolpath::RobotPathSettings& robot_settings,
+                                  const toolpath::ProgramAnalysisSettings& analysis_settings,
+                                  const toolpath::PathCorrections& collected,
+                                  const toolpath::Program& program, std::string& text,
+                                  const std::filesystem::path& scratch_file, std::string& message) {
+  const io::ToolpathSettings& settings = *job.toolpath;
+  const std::vector<toolpath::LineCorrection> all = collected.corrections(program);
+  // Workpiece frame → the program's own (the readers applied
+  // toolpath.origin/orientation): offsets turn back by its rotation.
+  const Eigen::Matrix3d to_program = settings.program_to_workpiece.linear().transpose();
+  std::vector<io::PointEdit> point_edits;
+  for (const toolpath::LineCorrection& c : all) {
+    io::PointEdit edit{c.line, to_program * c.offset_m, {}, ""};
+    double largest = c.offset_m.norm();
+    for (const toolpath::CorrectionPoint& p : c.points) {
+      edit.points.push_back({p.u, to_program * p.offset_m});
+      largest = std::max(largest, p.offset_m.norm());
+    }
+    edit.comment = fmt::format("robomill: compensated, up to {:.1f} um against the predicted error",
+                               largest * 1e6);
+    point_edits.push_back(std::move(edit));
+  }
+  const io::PointEditResult edited = io::write_point_edits(text, settings.format, point_edits);
+  std::map<int, std::string> skipped;
+  for (const auto& s : edited.skipped)
+    skipped[s.line] = s.reason;
+  std::vector<toolpath::LineCorrection> written;
+  std::size_t added = 0;
+  double largest_m = 0.0;
+  for (const toolpath::LineCorrection& c : all) {
+    if (skipped.count(c.line))
+      continue;
+    written.push_back(c);
+    added += c.points.size();
+    largest_m = std::max(largest_m, c.offset_m.norm());
+    for (const toolpath::CorrectionPoint& p : c.points)
+      largest_m = std::max(largest_m, p.offset_m.norm());
+  }
+  const std::vector<Eigen::Vector3d> expected = toolpath::corrected_ends(program, written);
+  const toolpath::Program corrected =
+      read_back(settings, edited.text, scratch_file, expected.size());
+  for (std::size_t m = 0; m < corrected.moves.size(); ++m) {
+    if ((corrected.moves[m].end_m - expected[m]).norm() > 1e-6)
+      throw Error(fmt::format(
+          "the compensated program's line {} ends at [{:.4f}, {:.4f}, {:.4f}] mm, not the "
+          "intended [{:.4f}, {:.4f}, {:.4f}] mm; nothing was written",
+          corrected.moves[m].line, corrected.moves[m].end_m.x() * 1e3,
+          corrected.moves[m].end_m.y() * 1e3, corrected.moves[m].end_m.z() * 1e3,
+          expected[m].x() * 1e3, expected[m].y() * 1e3, expected[m].z() * 1e3));
+  }
+
+  // The written program analysed: each wall sample's error against the
+  // programmed line it stands for, e' − (p' − p)·w' with p the nearest point
+  // of that line (the compensated moves of one line all stand for it).
+  std::vector<std::size_t> original(corrected.moves.size());
+  {
+    std::map<std::size_t, std::size_t> points_of;
+    for (const toolpath::LineCorrection& c : written)
+      points_of[c.move] = c.points.size();
+    std::size_t w = 0;
+    for (std::size_t m = 0; m < program.moves.size(); ++m) {
+      const std::size_t count = points_of.count(m) ? points_of[m] + 1 : 1;
+      for (std::size_t k = 0; k < count && w < original.size(); ++k)
+        original[w++] = m;
+    }
+  }
+  toolpath::ProgramAnalysisSettings again = analysis_settings;
+  again.move_spacing_m.clear();  // the written program has moves of its own
+  again.move_steps.clear();
+  toolpath::RobotAlongPath along(*setup.model, setup.structure, tooling, *job.cutting,
+                                 setup.stability, robot_settings);
+  toolpath::DexelStock stock = make_stock(job);
+  std::vector<toolpath::RobotSample> block_out;
+  std::vector<double> residuals_m;  // |e' − (p' − p)·w'| at every wall sample
+  const toolpath::ProgramAnalysis analysis = toolpath::analyse_program(
+      corrected, tooling, *job.cutting, stock, again,
+      [&](std::span<const toolpath::PathSample> block) {
+        block_out.resize(block.size());
+        along.evaluate(block, block_out);
+        for (std::size_t i = 0; i < block.size(); ++i) {
+          const toolpath::RobotSample& r = block_out[i];
+          const toolpath::PathSample& sample = block[i];
+          if (!r.wall || !r.reachable || !sample.analysed ||
+              sample.kind == toolpath::MotionKind::rapid)
+            continue;
+          const toolpath::Move& nominal = program.moves[original[sample.move]];
+          double shift = 0.0;
+          if (nominal.kind == toolpath::MotionKind::linear) {
+            const Eigen::Vector3d d = nominal.end_m - nominal.start_m;
+            const double t =
+                d.squaredNorm() > 0.0
+                    ? std::clamp((sample.tip_m - nominal.start_m).dot(d) / d.squaredNorm(), 0.0,
+                                 1.0)
+                    : 0.0;
+            shift = (sample.tip_m - (nominal.start_m + t * d)).dot(r.wall_direction);
+          }
+          residuals_m.push_back(std::abs(r.form_error_m - shift));
+        }
+      });
+  const toolpath::RobotPathSummary summary = along.finish();
+  const Percentiles residual = percentiles(residuals_m);
+  text = edited.text;
+  nlohmann::json skipped_json = nlohmann::json::array();
+  for (const auto& [line, reason] : skipped)
+    if (skipped_json.size() < 50)
+      skipped_json.push_back({{"line", line}, {"reason", reason}});
+  if (!skipped.empty())
+    message += fmt::format("  optimize: {} lines not compensated (first: line {}, {})\n",
+                           skipped.size(), skipped.begin()->first, skipped.begin()->second);
+  message += fmt::format(
+      "  optimize: {} lines compensated ({} points added); the walls' largest error -> {:.1f} "
+      "um (measured on the written program)\n",
+      written.size(), added, residual.max * 1e6);
+  return {
+      {"floor", job.robot_path->compensation->floor},
+      {"min_offset_um", job.robot_path->compensation->min_offset_m * 1e6},
+      {"tolerance_um", job.robot_path->compensation->tolerance_m * 1e6},
+      {"lines_compensated", written.size()},
+      {"points_added", added},
+      {"lines_skipped", skipped_json},
+      {"max_offset_um", largest_m * 1e6},
+      {"residual_um",
+       {{"median", residual.median * 1e6},
+        {"p90", residual.p90 * 1e6},
+        {"max", residual.max * 1e6}}},
+      {"max_residual_um", residual.max * 1e6},
+      {"wall_samples", residuals_m.size()},
+      {"compensated",
+       {{"min_margin", summary.min_margin},
+        {"chatter_samples", summary.chatter},
+        {"at_risk_samples", summary.at_risk},
+        {"max_force_N", analysis.max_force_n},
+        {"cycle_time_s", analysis.cutting_time_s + analysis.air_time_s + analysis.dwell_time_s}}},
+      {"note",
+       "first order: every straight line moved against its samples' predicted error (form "
+       "error towards the wall; floor error along the axis with floor) at the feeds and "
+       "speeds chosen above, as a polyline within tolerance_um of it; 'after' is the program "
+       "before this step, 'compensated' and max_residual_um the written program analysed "
+       "again (the residual e' - (p' - p).w against the programmed line at every wall "
+       "sample)"}};
+}
+
 // --optimize: the redundancy angle for the whole program, the spindle speed
 // of each S word's stretch chosen for its postures, the feed of every line
 // under the job's caps, the program written back with the changes named, and
@@ -477,6 +646,11 @@ nlohmann::json optimize_program(const io::Job& job, const toolpath::Program& pro
   const io::ToolpathSettings& settings = *job.toolpath;
   const double cycle_time_before_s =
       first_pass.cutting_time_s + first_pass.air_time_s + first_pass.dwell_time_s;
+  if (job.robot_path && job.robot_path->compensation &&
+      settings.format == io::ToolpathSettings::Format::krl)
+    throw InputError("robot_path.compensation", job.robot_path->compensation->line,
+                     "the deflection compensation is written into G-code and APT programs; a KRL "
+                     "program's points live in its .dat and FOR loops run them several times");
   // ψ first (it moves every posture), then the speeds at those postures.
   std::vector<toolpath::RecordedSample> recorded = record.recorded;
   toolpath::RobotPathSettings after_settings = setup.settings;
@@ -574,8 +748,10 @@ nlohmann::json optimize_program(const io::Job& job, const toolpath::Program& pro
   const std::filesystem::path scratch_file = scratch / (".robomill-" + name);
   toolpath::ProgramAnalysisSettings analysis_settings =
       program_analysis_settings(settings, threads, name);
-  for (const toolpath::MoveTotals& move : first_pass.moves)
+  for (const toolpath::MoveTotals& move : first_pass.moves) {
     analysis_settings.move_spacing_m.push_back(move.spacing_m);
+    analysis_settings.move_steps.push_back(move.steps);
+  }
 
   // The feeds, on the program as it will run with the chosen speeds (the
   // spindle edits written and read back) at the chosen ψ.
@@ -654,7 +830,8 @@ nlohmann::json optimize_program(const io::Job& job, const toolpath::Program& pro
         changed, schedule.lines.size(), slowed, changed - slowed, schedule.runs);
   }
 
-  if (edits.empty() && feeds.empty() && !psi_changed) {
+  const bool compensate = job.robot_path && job.robot_path->compensation;
+  if (edits.empty() && feeds.empty() && !psi_changed && !compensate) {
     out["changed"] = false;
     out["note"] =
         "no speed in the range raises the smallest margin without putting a safe sample at "
@@ -665,11 +842,10 @@ nlohmann::json optimize_program(const io::Job& job, const toolpath::Program& pro
 
   // The program written back in its dialect, read back by its reader (every
   // move's feed and speed checked against the schedule), and analysed again.
-  const bool written_changes = !edits.empty() || !feeds.empty();
-  const std::string written =
+  bool written_changes = !edits.empty() || !feeds.empty();
+  std::string written =
       written_changes ? io::write_program_edits(text, settings.format, edits, feeds) : text;
-  const toolpath::Program rewritten =
-      read_back(settings, written, scratch_file, program.moves.size());
+  toolpath::Program rewritten = read_back(settings, written, scratch_file, program.moves.size());
   for (std::size_t m = 0; m < rewritten.moves.size(); ++m) {
     const toolpath::Move& got = rewritten.moves[m];
     const toolpath::Move& want = with_speeds.moves[m];
@@ -686,6 +862,15 @@ nlohmann::json optimize_program(const io::Job& job, const toolpath::Program& pro
   toolpath::DexelStock stock = make_stock(job);
   toolpath::RobotAlongPath after(*setup.model, setup.structure, tooling, *job.cutting,
                                  setup.stability, after_settings);
+  std::optional<toolpath::PathCorrections> corrections;
+  std::vector<double> wall_errors_m;  // |form error| at the wall samples before compensation
+  if (compensate) {
+    toolpath::CompensationSettings c;
+    c.floor = job.robot_path->compensation->floor;
+    c.min_offset_m = job.robot_path->compensation->min_offset_m;
+    c.tolerance_m = job.robot_path->compensation->tolerance_m;
+    corrections.emplace(rewritten.moves.size(), c);
+  }
   std::vector<toolpath::RobotSample> block_out;
   std::size_t index = 0, newly_at_risk = 0, relieved = 0;
   int first_newly_at_risk_line = 0;
@@ -699,6 +884,12 @@ nlohmann::json optimize_program(const io::Job& job, const toolpath::Program& pro
           const toolpath::RobotSample& r = block_out[i];
           if (r.reachable && block[i].kind != toolpath::MotionKind::rapid)
             loads_after.deflection_m = std::max(loads_after.deflection_m, r.deflection_m.norm());
+          if (corrections) {
+            corrections->add(block[i], r);
+            if (r.wall && r.reachable && block[i].analysed &&
+                block[i].kind != toolpath::MotionKind::rapid)
+              wall_errors_m.push_back(std::abs(r.form_error_m));
+          }
           const unsigned char was = index < record.at_risk.size() ? record.at_risk[index] : 2;
           if (!r.stability || was == 2)
             continue;
@@ -734,6 +925,16 @@ nlohmann::json optimize_program(const io::Job& job, const toolpath::Program& pro
   out["samples_compared"] = index;
   out["samples_before"] = first_pass.samples;
   out["after"]["redundancy_deg"] = after_settings.redundancy_rad * kDegPerRad;
+  if (corrections) {
+    out["compensation"] =
+        compensate_program(job, setup, tooling, after_settings, analysis_settings, *corrections,
+                           rewritten, written, scratch_file, message);
+    const Percentiles before = percentiles(wall_errors_m);
+    out["compensation"]["form_error_before_um"] = {
+        {"median", before.median * 1e6}, {"p90", before.p90 * 1e6}, {"max", before.max * 1e6}};
+    out["compensation"]["max_form_error_before_um"] = r.max_form_error_m * 1e6;
+    written_changes = written_changes || out["compensation"]["lines_compensated"] > 0;
+  }
   if (!written_changes)
     out["program"] = nullptr;  // only ψ changed: the program itself is the same
   else

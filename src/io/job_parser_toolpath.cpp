@@ -233,6 +233,18 @@ void read_robot_path(SectionReader& root, Job& job) {
     offset->finish();
     s.offset = o;
   }
+  if (auto compensation = r.section("compensation")) {
+    compensation->allow_schema("robot_path.compensation");
+    RobotPathJobSettings::Compensation c;
+    c.line = compensation->line();
+    c.floor = compensation->boolean_or("floor", false);
+    c.min_offset_m = compensation->quantity_or(
+        "min_offset", field(dimensions::length, 1e-6, "um", Bound{0.0, true}), 1e-6);
+    c.tolerance_m = compensation->quantity_or(
+        "tolerance", field(dimensions::length, 1e-6, "um", kPositive), 2e-6);
+    compensation->finish();
+    s.compensation = c;
+  }
   r.finish();
   job.robot_path = s;
 }

@@ -683,6 +683,20 @@ void optimization_table(const json& optimization, const json& summary, Content& 
       number_of(after, "cycle_time_s"), " s");
   row("samples newly at risk", std::numeric_limits<double>::quiet_NaN(),
       number_of(optimization, "samples_newly_at_risk"), "");
+  // The compensation: the walls' error at the feeds chosen, without and with
+  // the moved path (both measured).
+  if (const json compensation = optimization.value("compensation", json());
+      compensation.is_object()) {
+    const json before = compensation.value("form_error_before_um", json::object());
+    const json residual = compensation.value("residual_um", json::object());
+    for (const char* which : {"median", "p90", "max"})
+      row(fmt::format("wall error, {} (compensated: after)", which), number_of(before, which),
+          number_of(residual, which), " µm");
+    table.rows.push_back({"compensation", "—",
+                          fmt::format("{} lines moved, {} points added",
+                                      integer_text(number_of(compensation, "lines_compensated")),
+                                      integer_text(number_of(compensation, "points_added")))});
+  }
   c.tables.push_back(std::move(table));
 }
 

@@ -254,8 +254,12 @@ ProgramAnalysis analyse_program(const Program& program, const Tooling& tooling,
       continue;
     approached = true;
     totals.spacing_m = spacing_m;
-    const std::size_t steps = std::max<std::size_t>(
-        1, static_cast<std::size_t>(std::ceil(totals.length_m / spacing_m - 1e-9)));
+    const std::size_t steps =
+        m < settings.move_steps.size() && settings.move_steps[m] > 0
+            ? settings.move_steps[m]
+            : std::max<std::size_t>(
+                  1, static_cast<std::size_t>(std::ceil(totals.length_m / spacing_m - 1e-9)));
+    totals.steps = steps;
     const double step_m = totals.length_m / static_cast<double>(steps);
     const double inset_m = surface_inset_m(cutter->grid, cutter->shape, stock.resolution_m());
     const double lookahead_m =

@@ -242,6 +242,9 @@ void RobotAlongPath::deflect(const PathSample& sample, RobotSample& out) const {
   const double lateral_y = out.deflection_m.dot(frame.col(1));
   const Band band = band_of(sample);
   out.wall = band != Band::inside && !sample.plunge;
+  if (out.wall)
+    out.wall_direction =
+        band == Band::up ? Eigen::Vector3d(frame.col(1)) : Eigen::Vector3d(-frame.col(1));
   if (band == Band::down)
     out.form_error_m = lateral_y;
   else if (band == Band::up)

@@ -7,6 +7,7 @@ G="$SOURCE/examples/toolpath_pocket_gcode.yaml"
 K="$SOURCE/examples/toolpath_pocket_krl.yaml"
 A="$SOURCE/examples/toolpath_ball_5axis_apt.yaml"
 P="$SOURCE/tests/cli/programs"
+KRL_TOOLPATH='{format: krl, bases: {1: [0, 0, 0, 0, 0, 0]}, tool_direction: x, spindle: 8000 rpm, spacing: 0.5 mm, tools: {T1: {type: flat, diameter: 10 mm, teeth: 3, helix: 30 deg, overhang: 40 mm}}}'
 
 "$ROBOMILL" toolpath "$G" --out "$WORK/g" --quiet || fail "gcode example exit code"
 for f in summary.json samples.csv samples_preview.csv moves.csv stock.csv inputs.json; do
@@ -123,7 +124,20 @@ for change in feeds["changes"]:
 text = open(sys.argv[2]).read()
 assert len(re.findall(r"\(robomill: feed \d+ -> \d+ mm/min", text)) == feeds["lines_changed"], text
 assert o["samples_compared"] == o["samples_before"], o
+# The compensation (robot_path.compensation in the example): the written
+# program analysed again, the walls' error against the programmed path. The
+# median and the 90th percentile fall at least fivefold; the largest stays at
+# the corners, where one point finishes two walls (docs/toolpath.md).
+c = o["compensation"]
+assert c["lines_compensated"] > 0 and c["points_added"] > 0, c
+before, residual = c["form_error_before_um"], c["residual_um"]
+assert residual["median"] <= before["median"] / 5 and residual["p90"] <= before["p90"] / 5, c
+assert c["compensated"]["at_risk_samples"] <= after["at_risk_samples"], c
+assert c["compensated"]["max_force_N"] <= limits["force_max_N"] * 1.01, c
+assert len(re.findall(r"\(robomill: compensated", text)) >= c["lines_compensated"], text
 PYEOF
+expect_exit2 "robot_path.compensation" toolpath "$R" --optimize "${FAST[@]}" --set "toolpath=$KRL_TOOLPATH" \
+  --set "toolpath.file=$SOURCE/examples/programs/pocket.src" --set "toolpath.dat=$SOURCE/examples/programs/pocket.dat"
 # A cap no feed can meet: an error naming the program line, nothing written.
 expect_exit2 "no feed satisfies the limits" toolpath "$R" --optimize "${FAST[@]}" \
   --set 'robot_path.feed_limits={force_max: 20 N, feed_min: 200 mm/min}'
@@ -188,7 +202,6 @@ PYEOF
 # axis): the example pocket in KRL on the KR 270, as written (A 0, B 90: ψ = 0)
 # and with every frame turned by A 30. The spindle lies along joint 6, so the
 # turn moves joint 6 by 30° and nothing else (q1-q5 within 1e-6°).
-KRL_TOOLPATH='{format: krl, bases: {1: [0, 0, 0, 0, 0, 0]}, tool_direction: x, spindle: 8000 rpm, spacing: 0.5 mm, tools: {T1: {type: flat, diameter: 10 mm, teeth: 3, helix: 30 deg, overhang: 40 mm}}}'
 for case in a0:$SOURCE/examples/programs/pocket a30:$P/pocket_a30; do
   name=${case%%:*} program=${case#*:}
   "$ROBOMILL" toolpath "$R" --out "$WORK/krl_$name" --quiet --set "toolpath=$KRL_TOOLPATH" \

@@ -124,6 +124,7 @@ robot_path:
   redundancy_search: {from: -30 deg, to: 30 deg, count: 5}
   deflection: contact
   offset: {measure: rms, harmonics: 20, samples: 64}
+  compensation: {floor: true, min_offset: 2 um, tolerance: 3 um}
 )",
     // robomill listen: one recording with every key, and the detector's settings.
     R"(name: kitchen sink 4

@@ -18,6 +18,7 @@
 #include "robomill/core/error.hpp"
 #include "robomill/io/program_readers.hpp"
 #include "robomill/io/program_writer.hpp"
+#include "robomill/toolpath/deflection_compensation.hpp"
 
 namespace robomill::io {
 namespace {
@@ -316,6 +317,118 @@ TEST(ProgramWriter, FeedsOfTheReaderCorpusRoundTrip) {
   std::cout << "feed round trips: " << gcode.programs << " G-code programs (" << gcode.edited_lines
             << " lines), " << apt.programs << " APT (" << apt.edited_lines << "), " << krl.programs
             << " KRL (" << krl.edited_lines << ")\n";
+}
+
+// The deflection compensation's moved points (write_point_edits) on the
+// same corpus: every other line that programs one straight feed move (not
+// followed by an arc, whose centre is relative to its start) moved by
+// (+30, −20, +10) µm. Read back: the edited moves end exactly there (to the
+// 0.1 µm written), every other move ends where it did (the modal axes an
+// edit changed are put back on the next line that moves), nothing else
+// changes; lines the writer skips are named with a reason and unchanged.
+namespace points {
+
+struct Checked {
+  int programs = 0, edited = 0, skipped = 0, added = 0;
+};
+
+void check(const std::string& name, const std::string& text, ToolpathSettings::Format format,
+           const std::function<toolpath::Program(const std::string&)>& read, Checked& checked) {
+  toolpath::Program before;
+  try {
+    before = read(text);
+  } catch (const InputError&) {
+    return;
+  }
+  std::map<int, int> moves_on_line;
+  for (const toolpath::Move& move : before.moves)
+    ++moves_on_line[move.line];
+  const Eigen::Vector3d offset(30e-6, -20e-6, 10e-6);
+  std::vector<PointEdit> edits;
+  std::vector<toolpath::LineCorrection> corrections;
+  int k = 0;
+  for (std::size_t m = 0; m < before.moves.size(); ++m) {
+    const toolpath::Move& move = before.moves[m];
+    const bool before_arc =
+        m + 1 < before.moves.size() && before.moves[m + 1].kind == toolpath::MotionKind::arc;
+    if (move.kind != toolpath::MotionKind::linear || moves_on_line[move.line] != 1 || before_arc ||
+        k++ % 2 != 0)
+      continue;
+    PointEdit edit{move.line, offset, {}, "robomill: test"};
+    toolpath::LineCorrection correction{m, move.line, offset, {}};
+    if (k % 4 == 1) {  // every other edit adds two points inside its line
+      edit.points = {{0.25, Eigen::Vector3d(-15e-6, 5e-6, 0.0)}, {0.6, offset}};
+      correction.points = {{0.25, edit.points[0].offset_m}, {0.6, offset}};
+    }
+    edits.push_back(edit);
+    corrections.push_back(correction);
+  }
+  if (edits.empty())
+    return;
+  const PointEditResult written = write_point_edits(text, format, edits);
+  for (const auto& skipped : written.skipped) {
+    EXPECT_FALSE(skipped.reason.empty());
+    std::erase_if(corrections,
+                  [&](const toolpath::LineCorrection& c) { return c.line == skipped.line; });
+  }
+  toolpath::Program after;
+  try {
+    after = read(written.text);
+  } catch (const InputError& error) {
+    ADD_FAILURE() << name << ": the written program does not read back: " << error.what() << "\n"
+                  << written.text;
+    return;
+  }
+  // Every written move ends where the corrected path does (the added points,
+  // then the moved end; every other move where it was).
+  const std::vector<Eigen::Vector3d> expected = toolpath::corrected_ends(before, corrections);
+  ASSERT_EQ(after.moves.size(), expected.size()) << name << "\n" << written.text;
+  for (std::size_t m = 0; m < after.moves.size(); ++m)
+    EXPECT_LT((after.moves[m].end_m - expected[m]).norm(), 1e-6)
+        << name << ": written move " << m << " (line " << after.moves[m].line << ") ends at "
+        << after.moves[m].end_m.transpose() * 1e3 << " mm, expected "
+        << expected[m].transpose() * 1e3 << "\n"
+        << written.text;
+  ++checked.programs;
+  checked.skipped += static_cast<int>(written.skipped.size());
+  checked.edited += static_cast<int>(corrections.size());
+  checked.added += static_cast<int>(after.moves.size() - before.moves.size());
+}
+
+}  // namespace points
+
+TEST(ProgramWriter, MovedPointsOfTheReaderCorpusRoundTrip) {
+  const corpus::fs::path root = corpus::fs::path(ROBOMILL_SOURCE_DIR) / "tests" / "toolpath";
+  points::Checked gcode, apt;
+  for (const auto& entry : corpus::fs::directory_iterator(root / "gcode")) {
+    const std::string ext = entry.path().extension().string();
+    if (entry.is_regular_file() && (ext == ".nc" || ext == ".ngc"))
+      points::check(
+          entry.path().filename().string(), corpus::text_of(entry.path()),
+          ToolpathSettings::Format::gcode, [](const std::string& t) { return read_gcode(t, {}); },
+          gcode);
+  }
+  for (const auto& entry : corpus::fs::directory_iterator(root / "apt"))
+    if (entry.is_regular_file())
+      points::check(
+          entry.path().filename().string(), corpus::text_of(entry.path()),
+          ToolpathSettings::Format::apt, [](const std::string& t) { return read_apt(t, {}); }, apt);
+  EXPECT_GE(gcode.programs, 20);
+  EXPECT_GE(apt.programs, 4);
+  EXPECT_GT(gcode.edited, 10 * gcode.skipped) << gcode.skipped;
+  EXPECT_GT(gcode.added, 10);
+  EXPECT_GT(apt.added, 0);
+  std::cout << "moved points: " << gcode.programs << " G-code programs (" << gcode.edited
+            << " lines moved, " << gcode.added << " points added, " << gcode.skipped
+            << " skipped), " << apt.programs << " APT (" << apt.edited << ", " << apt.added
+            << " added, " << apt.skipped << " skipped)\n";
+  // KRL is refused by name.
+  try {
+    (void)write_point_edits("DEF t( )\nEND\n", ToolpathSettings::Format::krl, {{1, {}, {}, ""}});
+    ADD_FAILURE() << "KRL point edits must be refused";
+  } catch (const InputError& error) {
+    EXPECT_EQ(error.field(), "toolpath.format");
+  }
 }
 
 }  // namespace

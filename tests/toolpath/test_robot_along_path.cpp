@@ -27,6 +27,7 @@
 #include "robomill/robot/stiffness.hpp"
 #include "robomill/stability/process_damping.hpp"
 #include "robomill/stability/regenerative_model.hpp"
+#include "robomill/toolpath/deflection_compensation.hpp"
 #include "robomill/toolpath/program_optimization.hpp"
 #include "robomill/toolpath/robot_along_path.hpp"
 #include "support/case004.hpp"
@@ -607,6 +608,79 @@ TEST(RobotAlongPath, BandProcessMapsArcsToTheStraightCut) {
   ASSERT_TRUE(slot);
   EXPECT_NEAR(slot->radial_depth_m, 10e-3, 1e-15);
   EXPECT_FALSE(band_process(0.5, 2.0, r, 100.0, 1e-4).has_value());
+}
+
+}  // namespace
+}  // namespace robomill::toolpath
+
+namespace robomill::toolpath {
+namespace {
+
+// The compensation's polyline (deflection_compensation.hpp): points are
+// added only where the samples' corrections leave the straight interpolation
+// (a kink; the start, which stays where the line before ended), and at a
+// square corner the shared point takes both walls' corrections, each line
+// taking the other wall's out over its first or last step.
+TEST(DeflectionCompensation, PolylineFollowsTheSamplesAndCornersTakeBothWalls) {
+  Program program;
+  auto line = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b, int number) {
+    Move move;
+    move.kind = MotionKind::linear;
+    move.start_m = a;
+    move.end_m = b;
+    move.feed_m_s = 0.01;
+    move.line = number;
+    program.moves.push_back(move);
+  };
+  line({0, 0, 0}, {0.01, 0, 0}, 1);        // along +x: wall at −y
+  line({0.01, 0, 0}, {0.01, 0.01, 0}, 2);  // along +y: wall at +x
+  CompensationSettings settings;
+  settings.tolerance_m = 0.5e-6;
+  PathCorrections corrections(program.moves.size(), settings);
+  auto add = [&](std::size_t move, const Eigen::Vector3d& wall, double error) {
+    PathSample s;
+    s.move = move;
+    s.analysed = true;
+    RobotSample r;
+    r.reachable = true;
+    r.wall = true;
+    r.wall_direction = wall;
+    r.form_error_m = error;
+    corrections.add(s, r);
+  };
+  // Line 1: 11 samples, the error rises 10 → 20 µm to the middle, then
+  // stays (a kink at u = 0.5). Line 2: a constant 30 µm.
+  for (int k = 0; k <= 10; ++k)
+    add(0, -Eigen::Vector3d::UnitY(), (10.0 + 2.0 * std::min(k, 5)) * 1e-6);
+  for (int k = 0; k <= 10; ++k)
+    add(1, Eigen::Vector3d::UnitX(), 30e-6);
+  const std::vector<LineCorrection> lines = corrections.corrections(program);
+  ASSERT_EQ(lines.size(), 2u);
+  // Line 1 starts where the program did (no offset), so the first point
+  // kept is the second sample's 12 µm; then the kink at u = 0.5. Its end
+  // takes both walls (30 µm along +x for line 2's wall), so the x offset
+  // ramps in over the last step only: a point at u = 0.9 holds it at 0
+  // before.
+  ASSERT_EQ(lines[0].points.size(), 3u);
+  const double u[] = {0.1, 0.5, 0.9}, y_um[] = {-12.0, -20.0, -20.0};
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(lines[0].points[i].u, u[i], 1e-12);
+    EXPECT_LT((lines[0].points[i].offset_m - Eigen::Vector3d(0, y_um[i] * 1e-6, 0)).norm(), 1e-12);
+  }
+  EXPECT_LT((lines[0].offset_m - Eigen::Vector3d(30e-6, -20e-6, 0)).norm(), 1e-12);
+  // Line 2 starts at that corner: its first step takes the −20 µm of line
+  // 1's wall out (a point at u = 0.1), then its constant 30 µm.
+  ASSERT_EQ(lines[1].points.size(), 1u);
+  EXPECT_NEAR(lines[1].points[0].u, 0.1, 1e-12);
+  EXPECT_LT((lines[1].points[0].offset_m - Eigen::Vector3d(30e-6, 0, 0)).norm(), 1e-12);
+  EXPECT_LT((lines[1].offset_m - Eigen::Vector3d(30e-6, 0, 0)).norm(), 1e-12);
+  // The written path's ends: line 1's points and end, line 2's point and end.
+  const std::vector<Eigen::Vector3d> ends = corrected_ends(program, lines);
+  ASSERT_EQ(ends.size(), 6u);
+  EXPECT_LT((ends[1] - Eigen::Vector3d(0.005, -20e-6, 0)).norm(), 1e-12);
+  EXPECT_LT((ends[3] - Eigen::Vector3d(0.01 + 30e-6, -20e-6, 0)).norm(), 1e-12);
+  EXPECT_LT((ends[4] - Eigen::Vector3d(0.01 + 30e-6, 0.001, 0)).norm(), 1e-12);
+  EXPECT_LT((ends[5] - Eigen::Vector3d(0.01 + 30e-6, 0.01, 0)).norm(), 1e-12);
 }
 
 }  // namespace

@@ -332,6 +332,15 @@ struct RobotPathJobSettings {
     int line = 0;
   };
   std::optional<Offset> offset;
+  /// `compensation:` — `--optimize` moves the program's end points against
+  /// the predicted form error (toolpath/deflection_compensation.hpp).
+  struct Compensation {
+    bool floor = false;          ///< `floor`: also along the axis by the floor error
+    double min_offset_m = 1e-6;  ///< `min_offset` (um): smaller corrections are not written
+    double tolerance_m = 2e-6;   ///< `tolerance` (um): the written polyline within this
+    int line = 0;
+  };
+  std::optional<Compensation> compensation;
   int line = 0;
 };
 

@@ -9,6 +9,8 @@
 #include <string_view>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "robomill/io/job.hpp"
 #include "robomill/toolpath/program.hpp"
 
@@ -71,5 +73,53 @@ std::string write_spindle_edits(std::string_view text, ToolpathSettings::Format 
 /// feed word in force before the line.
 std::string write_program_edits(std::string_view text, ToolpathSettings::Format format,
                                 std::vector<SpindleEdit> spindles, std::vector<FeedEdit> feeds);
+
+/// A move's programmed end point moved by `offset_m` (the program's own
+/// frame, SI: the command turns the workpiece-frame offset back), with the
+/// comment written beside it.
+struct PointEdit {
+  int line = 0;  ///< the line that programs the end point (one move on it)
+  Eigen::Vector3d offset_m = Eigen::Vector3d::Zero();
+  /// Points written before the line: at the fraction u of the programmed
+  /// line (start to end), moved by offset_m; u ascending inside (0, 1).
+  struct Via {
+    double u = 0.0;
+    Eigen::Vector3d offset_m = Eigen::Vector3d::Zero();
+  };
+  std::vector<Via> points;
+  std::string comment;
+};
+
+/// The program with its point edits, and the edits it could not make.
+struct PointEditResult {
+  std::string text;
+  struct Skipped {
+    int line = 0;
+    std::string reason;
+  };
+  std::vector<Skipped> skipped;
+};
+
+/// Moved end points and points added inside lines (the deflection
+/// compensation of `--optimize`):
+///  - G-code (absolute, G90): each added point a block `G1 X Y Z (comment)`
+///    before the line (the first with the line's own F word, if it has one);
+///    the line's X, Y, Z words replaced by the moved
+///    values in the units in force (4 decimals in mm, 5 in inch), an axis the
+///    line leaves modal appended with the value in force plus its offset,
+///    `(comment)` added. A later line that moves on with a modal axis the
+///    edit changed gets that axis's programmed value back, so every other
+///    point stays where it was. Skipped (with the reason): G91 incremental
+///    lines, words written as expressions, a canned cycle in force, an axis
+///    whose value in force is unknown (after G28/G30/G53 or a cycle).
+///  - APT: the GOTO's x, y, z on that line rewritten, each added point a
+///    `GOTO/x,y,z` before it; `$$ comment` before the record. Skipped inside
+///    a frame robomill does not read or a CYCLE, where the line holds fewer
+///    than three coordinates, and with added points where the GOTO is not a
+///    record of its own with three coordinates.
+///  - KRL: InputError naming `toolpath.format` (its points live in the .dat
+///    and FOR loops run them several times).
+PointEditResult write_point_edits(std::string_view text, ToolpathSettings::Format format,
+                                  std::vector<PointEdit> edits);
 
 }  // namespace robomill::io

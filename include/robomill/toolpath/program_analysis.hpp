@@ -41,6 +41,11 @@ struct ProgramAnalysisSettings {
   /// feed or spindle speed, which move the default spacing) then samples
   /// where the first run did, so the two compare sample by sample.
   std::vector<double> move_spacing_m;
+  /// Per move: the number of steps along it where > 0, over any spacing. A
+  /// re-run of a program whose points moved a little (the deflection
+  /// compensation) keeps the first run's samples one for one, which a
+  /// spacing alone would not where a length crosses a multiple of it.
+  std::vector<std::size_t> move_steps;
   double rapid_speed_m_s = 0.5;  ///< traverse speed for the air time (30 m/min)
   /// Spindle speed for moves whose program gave none (rad/s; KRL programs
   /// rarely do); 0: such a move in material is an error.
@@ -94,6 +99,7 @@ struct MoveTotals {
   double length_m = 0.0, time_s = 0.0;
   double feed_m_s = 0.0, spindle_rad_s = 0.0;
   double spacing_m = 0.0;  ///< sample spacing used along the move (0: not sampled)
+  std::size_t steps = 0;   ///< steps taken along it (samples − 1; 0: not sampled)
   bool tool_described = true;
   int samples = 0, engaged_samples = 0;
   double removed_m3 = 0.0;  ///< section × feed integrated over the move

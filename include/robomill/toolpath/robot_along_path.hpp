@@ -159,6 +159,10 @@ struct RobotSample {
   double form_error_m = 0.0;   ///< on the finished wall's normal; + = material left
   double floor_error_m = 0.0;  ///< along the tool axis; + = material left
   bool wall = false;           ///< the sample finishes a wall (an arc ends at φ = 0 or π)
+  /// Unit, workpiece frame: from the tool towards the wall it finishes (the
+  /// milling frame's −y in down milling and slots, +y in up milling); zero
+  /// where no wall.
+  Eigen::Vector3d wall_direction = Eigen::Vector3d::Zero();
   /// The lateral deflection and the form error are 000's contact boundary
   /// (RobotPathSettings::contact): the tip node's deflection, and the wall's
   /// largest surface location error over the nodes that generate it.
