@@ -557,8 +557,36 @@ nlohmann::json compensate_program(const io::Job& job, const io::RobotPathSetup& 
   toolpath::ProgramAnalysisSettings again = analysis_settings;
   again.move_spacing_m.clear();  // the written program has moves of its own
   again.move_steps.clear();
+  // A redundancy schedule follows the moves a compensated line became (ψ
+  // linear along the programmed line: each part takes its stretch of it).
+  toolpath::RobotPathSettings corrected_settings = robot_settings;
+  if (!robot_settings.redundancy_by_move.empty()) {
+    std::map<std::size_t, std::vector<double>> cuts;  // 0, the points' u, 1
+    for (const toolpath::LineCorrection& c : written) {
+      std::vector<double>& u = cuts[c.move];
+      u.push_back(0.0);
+      for (const toolpath::CorrectionPoint& p : c.points)
+        u.push_back(p.u);
+      u.push_back(1.0);
+    }
+    corrected_settings.redundancy_by_move.clear();
+    for (std::size_t m = 0; m < program.moves.size(); ++m) {
+      const auto [from, to] =
+          m < robot_settings.redundancy_by_move.size()
+              ? robot_settings.redundancy_by_move[m]
+              : std::pair{robot_settings.redundancy_rad, robot_settings.redundancy_rad};
+      const auto it = cuts.find(m);
+      if (it == cuts.end()) {
+        corrected_settings.redundancy_by_move.emplace_back(from, to);
+        continue;
+      }
+      for (std::size_t k = 0; k + 1 < it->second.size(); ++k)
+        corrected_settings.redundancy_by_move.emplace_back(from + (to - from) * it->second[k],
+                                                           from + (to - from) * it->second[k + 1]);
+    }
+  }
   toolpath::RobotAlongPath along(*setup.model, setup.structure, tooling, *job.cutting,
-                                 setup.stability, robot_settings);
+                                 setup.stability, corrected_settings);
   toolpath::DexelStock stock = make_stock(job);
   std::vector<toolpath::RobotSample> block_out;
   std::vector<double> residuals_m;  // |e' − (p' − p)·w'| at every wall sample
@@ -663,6 +691,60 @@ nlohmann::json optimize_program(const io::Job& job, const toolpath::Program& pro
                    "the program's frames fix the tool's rotation about its axis (ψ per sample, "
                    "psi_deg): robot_path.redundancy_search is not applied"}};
     message += "  optimize: the program's frames fix ψ; redundancy_search not applied\n";
+  } else if (job.robot_path && !job.robot_path->redundancy_search_rad.empty() &&
+             job.robot_path->redundancy_per_line) {
+    // ψ(s): one angle per program line, turning between lines within the
+    // joint-speed bound.
+    const double joint_speed_max =
+        job.robot_path->redundancy_joint_speed_rad_s > 0.0
+            ? job.robot_path->redundancy_joint_speed_rad_s
+        : job.robot_path->feed_limits && job.robot_path->feed_limits->joint_speed_max_rad_s > 0.0
+            ? job.robot_path->feed_limits->joint_speed_max_rad_s
+            : 10.0 / kDegPerRad;
+    const toolpath::RedundancySchedule schedule = toolpath::schedule_redundancy(
+        before, program, recorded, job.robot_path->redundancy_search_rad, joint_speed_max, 0.02,
+        threads);
+    if (schedule.changed())
+      after_settings.redundancy_by_move = schedule.by_move(program.moves.size());
+    io::CsvTable table({"line", "first_move", "last_move", "from_deg", "to_deg", "turn",
+                        "turn_joint_speed_deg_s", "min_margin", "samples"});
+    nlohmann::json lines = nlohmann::json::array();
+    for (const auto& line : schedule.lines) {
+      const char* turn = line.from_rad != line.to_rad ? "during"
+                         : line.turn_before           ? "before"
+                                                      : "none";
+      table.add_cells({static_cast<double>(line.line), static_cast<double>(line.first_move + 1),
+                       static_cast<double>(line.last_move + 1), line.from_rad * kDegPerRad,
+                       line.to_rad * kDegPerRad, std::string(turn),
+                       line.turn_joint_speed_rad_s * kDegPerRad, line.min_margin,
+                       static_cast<double>(line.samples)});
+      if (lines.size() < 500)
+        lines.push_back({{"line", line.line},
+                         {"from_deg", line.from_rad * kDegPerRad},
+                         {"to_deg", line.to_rad * kDegPerRad},
+                         {"turn", turn},
+                         {"turn_joint_speed_deg_s", line.turn_joint_speed_rad_s * kDegPerRad},
+                         {"min_margin", line.min_margin}});
+    }
+    if (schedule.changed())
+      result.tables.emplace_back("redundancy_schedule", std::move(table));
+    redundancy = {{"per_line", true},
+                  {"programmed_deg", schedule.programmed_rad * kDegPerRad},
+                  {"joint_speed_max_deg_s", joint_speed_max * kDegPerRad},
+                  {"turns", schedule.turns},
+                  {"min_margin_before", schedule.min_margin_before},
+                  {"min_margin_after", schedule.min_margin_after},
+                  {"changed", schedule.changed()},
+                  {"lines", lines},
+                  {"note",
+                   "ψ per program line, the cell's setting (the robot post's rotation about the "
+                   "tool axis): the program has no word for it; redundancy_schedule.csv gives it "
+                   "line by line, and the re-run uses it"}};
+    if (schedule.changed())
+      message += fmt::format(
+          "  optimize: redundancy angle per line, {} turns (min margin {:.2f} -> {:.2f} at the "
+          "programmed speeds)\n",
+          schedule.turns, schedule.min_margin_before, schedule.min_margin_after);
   } else if (job.robot_path && !job.robot_path->redundancy_search_rad.empty()) {
     const toolpath::RedundancyChoice psi = toolpath::choose_redundancy_angle(
         before, recorded, job.robot_path->redundancy_search_rad, 0.02, threads);
@@ -727,10 +809,14 @@ nlohmann::json optimize_program(const io::Job& job, const toolpath::Program& pro
   if (!setup.stability.advice_speeds_rad_s.empty())
     out["speed_range_rpm"] = {setup.stability.advice_speeds_rad_s.front() * kRpmPerRadS,
                               setup.stability.advice_speeds_rad_s.back() * kRpmPerRadS};
-  const bool psi_changed = after_settings.redundancy_rad != setup.settings.redundancy_rad;
+  const bool psi_changed = after_settings.redundancy_rad != setup.settings.redundancy_rad ||
+                           !after_settings.redundancy_by_move.empty();
   if (psi_changed && !edits.empty())
-    edits.front().comment += fmt::format("; run with the redundancy angle {:.0f} deg",
-                                         after_settings.redundancy_rad * kDegPerRad);
+    edits.front().comment +=
+        after_settings.redundancy_by_move.empty()
+            ? fmt::format("; run with the redundancy angle {:.0f} deg",
+                          after_settings.redundancy_rad * kDegPerRad)
+            : std::string("; run with the redundancy angles of redundancy_schedule.csv");
 
   std::ifstream in(settings.file, std::ios::binary);
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -862,6 +948,11 @@ nlohmann::json optimize_program(const io::Job& job, const toolpath::Program& pro
   toolpath::DexelStock stock = make_stock(job);
   toolpath::RobotAlongPath after(*setup.model, setup.structure, tooling, *job.cutting,
                                  setup.stability, after_settings);
+  // The fastest joint along the re-run: between neighbouring samples of a move.
+  double max_joint_speed_rad_s = 0.0;
+  std::size_t last_move = SIZE_MAX;
+  double last_t_s = 0.0;
+  toolpath::RobotSample::Joints last_q;
   std::optional<toolpath::PathCorrections> corrections;
   std::vector<double> wall_errors_m;  // |form error| at the wall samples before compensation
   if (compensate) {
@@ -884,6 +975,17 @@ nlohmann::json optimize_program(const io::Job& job, const toolpath::Program& pro
           const toolpath::RobotSample& r = block_out[i];
           if (r.reachable && block[i].kind != toolpath::MotionKind::rapid)
             loads_after.deflection_m = std::max(loads_after.deflection_m, r.deflection_m.norm());
+          if (r.reachable && block[i].kind != toolpath::MotionKind::rapid) {
+            if (block[i].move == last_move && block[i].t_s > last_t_s)
+              max_joint_speed_rad_s =
+                  std::max(max_joint_speed_rad_s,
+                           (r.q_rad - last_q).cwiseAbs().maxCoeff() / (block[i].t_s - last_t_s));
+            last_move = block[i].move;
+            last_t_s = block[i].t_s;
+            last_q = r.q_rad;
+          } else {
+            last_move = SIZE_MAX;
+          }
           if (corrections) {
             corrections->add(block[i], r);
             if (r.wall && r.reachable && block[i].analysed &&
@@ -925,6 +1027,7 @@ nlohmann::json optimize_program(const io::Job& job, const toolpath::Program& pro
   out["samples_compared"] = index;
   out["samples_before"] = first_pass.samples;
   out["after"]["redundancy_deg"] = after_settings.redundancy_rad * kDegPerRad;
+  out["after"]["max_joint_speed_deg_s"] = max_joint_speed_rad_s * kDegPerRad;
   if (corrections) {
     out["compensation"] =
         compensate_program(job, setup, tooling, after_settings, analysis_settings, *corrections,

@@ -176,6 +176,9 @@ void read_robot_path(SectionReader& root, Job& job) {
     const double from = search->quantity("from", angle_deg());
     const double to = search->quantity("to", angle_deg());
     const int count = search->integer("count", 1, 721);
+    s.redundancy_per_line = search->boolean_or("per_line", false);
+    s.redundancy_joint_speed_rad_s = search->quantity_or(
+        "joint_speed_max", field(dimensions::angular_speed, kDeg, "deg/s", kPositive), 0.0);
     if (count > 1 && !(to > from))
       search->fail("to", fmt::format("must exceed from ({:g} deg) when count > 1, got {:g} deg",
                                      from / kDeg, to / kDeg));

@@ -275,6 +275,7 @@ ProgramAnalysis analyse_program(const Program& program, const Tooling& tooling,
       PathSample& sample = block.emplace_back();
       SampleGeometry& geo = geometry.emplace_back();
       sample.move = m;
+      sample.move_fraction = u;
       sample.line = move.line;
       sample.tool = move.tool;
       sample.kind = move.kind;

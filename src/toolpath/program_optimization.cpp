@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <stdexcept>
 
@@ -155,6 +156,254 @@ RedundancyChoice choose_redundancy_angle(const RobotAlongPath& along,
   if (choice.changed())
     samples = std::move(best);
   return choice;
+}
+
+}  // namespace robomill::toolpath
+
+namespace robomill::toolpath {
+
+bool RedundancySchedule::changed() const noexcept {
+  for (const Line& line : lines)
+    if (line.from_rad != programmed_rad || line.to_rad != programmed_rad)
+      return true;
+  return false;
+}
+
+std::vector<std::pair<double, double>> RedundancySchedule::by_move(std::size_t moves) const {
+  double current = lines.empty() ? programmed_rad : lines.front().from_rad;
+  std::vector<std::pair<double, double>> out(moves, {current, current});
+  std::size_t next = 0;
+  for (std::size_t m = 0; m < moves; ++m) {
+    if (next < lines.size() && m >= lines[next].first_move && m <= lines[next].last_move) {
+      // The turn spread evenly over the line's moves.
+      const Line& line = lines[next];
+      const double n = static_cast<double>(line.last_move - line.first_move + 1);
+      const double i = static_cast<double>(m - line.first_move);
+      out[m] = {line.from_rad + (line.to_rad - line.from_rad) * i / n,
+                line.from_rad + (line.to_rad - line.from_rad) * (i + 1.0) / n};
+      if (m == line.last_move) {
+        current = line.to_rad;
+        ++next;
+      }
+    } else if (next < lines.size() && lines[next].turn_before && next > 0) {
+      // A turn on the moves between two lines, spread evenly over them.
+      const double from = lines[next - 1].to_rad, to = lines[next].from_rad;
+      const double n = static_cast<double>(lines[next].first_move - lines[next - 1].last_move - 1);
+      const double i = static_cast<double>(m - lines[next - 1].last_move - 1);
+      out[m] = {from + (to - from) * i / n, from + (to - from) * (i + 1.0) / n};
+    } else {
+      out[m] = {current, current};
+    }
+  }
+  return out;
+}
+
+RedundancySchedule schedule_redundancy(const RobotAlongPath& along, const Program& program,
+                                       std::vector<RecordedSample>& samples,
+                                       const std::vector<double>& candidates_rad,
+                                       double joint_speed_max_rad_s, double min_gain, int threads) {
+  if (candidates_rad.empty() || !(joint_speed_max_rad_s > 0.0))
+    throw std::invalid_argument("redundancy schedule: no candidates or no joint speed bound");
+  const double risk = along.settings().risk_margin;
+  RedundancySchedule schedule;
+  schedule.programmed_rad = along.settings().redundancy_rad;
+  schedule.min_margin_before = std::numeric_limits<double>::infinity();
+  for (const RecordedSample& r : samples) {
+    schedule.min_margin_before = std::min(schedule.min_margin_before, r.margin);
+    schedule.at_risk_before += r.margin <= risk ? 1 : 0;
+  }
+  if (samples.empty()) {
+    schedule.min_margin_before = 0.0;
+    return schedule;
+  }
+
+  // The lines: runs of consecutive moves from one program line (a KRL loop
+  // runs a line again later: another run) that hold recorded samples.
+  std::vector<std::size_t> line_of_move(program.moves.size(), SIZE_MAX);
+  std::vector<RedundancySchedule::Line> lines;
+  std::vector<double> line_time_s;
+  for (std::size_t m = 0; m < program.moves.size(); ++m) {
+    const Move& move = program.moves[m];
+    if (lines.empty() || lines.back().last_move + 1 != m || lines.back().line != move.line) {
+      lines.push_back({move.line, m, m, 0.0, 0.0, 0.0, 0.0, false, 0});
+      line_time_s.push_back(0.0);
+    }
+    lines.back().last_move = m;
+    line_time_s.back() += move.kind == MotionKind::rapid ? 0.0 : duration_s(move, 1.0);
+    line_of_move[m] = lines.size() - 1;
+  }
+  const std::size_t n = samples.size(), c = candidates_rad.size();
+  std::vector<std::vector<std::size_t>> members(lines.size());
+  for (std::size_t i = 0; i < n; ++i)
+    if (samples[i].sample.move < line_of_move.size())
+      members[line_of_move[samples[i].sample.move]].push_back(i);
+
+  // Every sample at every candidate: the posture from the recorded one, its
+  // margin at the sample's own speed.
+  struct At {
+    bool ok = false;  // reachable, off the joint limits
+    RobotSample::Joints q;
+    double margin = 0.0;
+  };
+  std::vector<At> at(n * c);
+  core::parallel_for(n * c, threads, [&](std::size_t index) {
+    const std::size_t i = index / c, k = index % c;
+    const RecordedSample& r = samples[i];
+    const RobotSample robot =
+        along.posture_at(r.sample, candidates_rad[k], Eigen::VectorXd(r.q_rad));
+    At& a = at[index];
+    a.ok = robot.reachable && !robot.joint_limit;
+    a.q = robot.q_rad;
+    if (a.ok)
+      a.margin = along.direct_limit(r.sample, Eigen::VectorXd(robot.q_rad)).depth_limit_m /
+                 r.sample.axial_depth_m;
+  });
+
+  // Per line and candidate: admissible, smallest margin, samples at risk.
+  const std::size_t L = lines.size();
+  std::vector<char> admissible(L * c, 0);
+  std::vector<double> margin(L * c, std::numeric_limits<double>::infinity());
+  for (std::size_t l = 0; l < L; ++l)
+    for (std::size_t k = 0; k < c; ++k) {
+      bool ok = true;
+      for (const std::size_t i : members[l]) {
+        const At& a = at[i * c + k];
+        ok = ok && a.ok && !(a.margin <= risk && samples[i].margin > risk);
+        if (a.ok)
+          margin[l * c + k] = std::min(margin[l * c + k], a.margin);
+      }
+      admissible[l * c + k] = ok ? 1 : 0;
+    }
+  // The joint speed of turning from angle j to k over line l: the turn
+  // itself (its first sample's postures) over the line's time, plus the
+  // path's own (its first and last samples at k).
+  auto turn_speed = [&](std::size_t l, std::size_t j, std::size_t k) {
+    if (members[l].empty())
+      return 0.0;
+    const std::size_t first = members[l].front(), last = members[l].back();
+    double path = 0.0;
+    const double dt = samples[last].sample.t_s - samples[first].sample.t_s;
+    if (dt > 0.0)
+      path = (at[last * c + k].q - at[first * c + k].q).cwiseAbs().maxCoeff() / dt;
+    if (j == k)
+      return 0.0;
+    if (!(line_time_s[l] > 0.0))
+      return std::numeric_limits<double>::infinity();
+    return (at[first * c + k].q - at[first * c + j].q).cwiseAbs().maxCoeff() / line_time_s[l] +
+           path;
+  };
+
+  // Dynamic programming over the lines with samples, in program order:
+  // value = the smallest margin so far, then the fewest turns.
+  struct State {
+    double value = -std::numeric_limits<double>::infinity();
+    std::size_t turns = 0;
+    std::size_t from = SIZE_MAX;
+    bool in_gap = false;  // the turn from `from` happens on the moves before the line
+  };
+  // A turn between two lines, on the moves between them (a link, a retract):
+  // from the last sample of one at angle j to the first of the next at k.
+  auto gap_speed = [&](std::size_t before, std::size_t after, std::size_t j, std::size_t k) {
+    if (lines[after].first_move == lines[before].last_move + 1)
+      return std::numeric_limits<double>::infinity();  // no move between them
+    const std::size_t last = members[before].back(), first = members[after].front();
+    const double dt = samples[first].sample.t_s - samples[last].sample.t_s;
+    if (!(dt > 0.0))
+      return std::numeric_limits<double>::infinity();
+    return (at[first * c + k].q - at[last * c + j].q).cwiseAbs().maxCoeff() / dt;
+  };
+  std::vector<std::size_t> judged;  // lines with samples
+  for (std::size_t l = 0; l < L; ++l)
+    if (!members[l].empty())
+      judged.push_back(l);
+  std::vector<State> dp(judged.size() * c);
+  auto better = [](double v, std::size_t t, const State& s) {
+    return v > s.value * (1.0 + 1e-12) || (v >= s.value * (1.0 - 1e-12) && t < s.turns);
+  };
+  for (std::size_t g = 0; g < judged.size(); ++g) {
+    const std::size_t l = judged[g];
+    for (std::size_t k = 0; k < c; ++k) {
+      if (!admissible[l * c + k])
+        continue;
+      State& state = dp[g * c + k];
+      if (g == 0) {
+        state.value = margin[l * c + k];
+        continue;
+      }
+      for (std::size_t j = 0; j < c; ++j) {
+        const State& previous = dp[(g - 1) * c + j];
+        if (!std::isfinite(previous.value) || !admissible[l * c + j])
+          continue;
+        // Turn between the lines where the moves between them allow it (the
+        // line then runs at k alone), else over the line itself.
+        const bool in_gap = j != k && gap_speed(judged[g - 1], l, j, k) <= joint_speed_max_rad_s;
+        if (j != k && !in_gap && turn_speed(l, j, k) > joint_speed_max_rad_s)
+          continue;
+        const double line_value =
+            j == k || in_gap ? margin[l * c + k] : std::min(margin[l * c + k], margin[l * c + j]);
+        const double value = std::min(previous.value, line_value);
+        const std::size_t turns = previous.turns + (j == k ? 0 : 1);
+        if (better(value, turns, state)) {
+          state.value = value;
+          state.turns = turns;
+          state.from = j;
+          state.in_gap = in_gap;
+        }
+      }
+    }
+  }
+  std::size_t best = SIZE_MAX;
+  for (std::size_t k = 0; k < c && !judged.empty(); ++k) {
+    const State& s = dp[(judged.size() - 1) * c + k];
+    if (std::isfinite(s.value) &&
+        (best == SIZE_MAX || better(s.value, s.turns, dp[(judged.size() - 1) * c + best])))
+      best = k;
+  }
+  schedule.min_margin_after = schedule.min_margin_before;
+  schedule.at_risk_after = schedule.at_risk_before;
+  for (const std::size_t l : judged) {
+    RedundancySchedule::Line line = lines[l];
+    line.from_rad = line.to_rad = schedule.programmed_rad;
+    line.samples = members[l].size();
+    line.min_margin = std::numeric_limits<double>::infinity();
+    for (const std::size_t i : members[l])
+      line.min_margin = std::min(line.min_margin, samples[i].margin);
+    schedule.lines.push_back(line);
+  }
+  if (best == SIZE_MAX ||
+      !(dp[(judged.size() - 1) * c + best].value > schedule.min_margin_before * (1.0 + min_gain)))
+    return schedule;  // the programmed ψ stays
+
+  // Back along the choices.
+  std::vector<std::size_t> chosen(judged.size());
+  chosen.back() = best;
+  for (std::size_t g = judged.size() - 1; g > 0; --g)
+    chosen[g - 1] = dp[g * c + chosen[g]].from;
+  schedule.min_margin_after = dp[(judged.size() - 1) * c + best].value;
+  schedule.turns = dp[(judged.size() - 1) * c + best].turns;
+  schedule.at_risk_after = 0;
+  for (std::size_t g = 0; g < judged.size(); ++g) {
+    const std::size_t l = judged[g], k = chosen[g];
+    const bool in_gap = g > 0 && dp[g * c + k].in_gap;
+    const std::size_t j = g == 0 || in_gap ? k : chosen[g - 1];
+    RedundancySchedule::Line& line = schedule.lines[g];
+    line.from_rad = candidates_rad[j];
+    line.to_rad = candidates_rad[k];
+    line.min_margin = j == k ? margin[l * c + k] : std::min(margin[l * c + k], margin[l * c + j]);
+    line.turn_joint_speed_rad_s =
+        in_gap ? gap_speed(judged[g - 1], l, chosen[g - 1], k) : turn_speed(l, j, k);
+    line.turn_before = in_gap;
+    for (const std::size_t i : members[l])
+      schedule.at_risk_after +=
+          (at[i * c + k].margin <= risk || at[i * c + j].margin <= risk) ? 1 : 0;
+  }
+  // The samples at their line's angle, for the spindle choice that follows.
+  for (std::size_t g = 0; g < judged.size(); ++g)
+    for (const std::size_t i : members[judged[g]]) {
+      samples[i].q_rad = at[i * c + chosen[g]].q;
+      samples[i].margin = at[i * c + chosen[g]].margin;
+    }
+  return schedule;
 }
 
 }  // namespace robomill::toolpath

@@ -207,7 +207,12 @@ RobotSample RobotAlongPath::posture_at(const PathSample& sample, double redundan
 }
 
 void RobotAlongPath::posture(const PathSample& sample, RobotSample& out) {
-  out = posture_at(sample, settings_.redundancy_rad, seed_);
+  double psi = settings_.redundancy_rad;
+  if (sample.move < settings_.redundancy_by_move.size()) {
+    const auto [from, to] = settings_.redundancy_by_move[sample.move];
+    psi = from + (to - from) * sample.move_fraction;
+  }
+  out = posture_at(sample, psi, seed_);
   if (out.reachable)
     seed_ = out.q_rad;
 }

@@ -138,6 +138,22 @@ assert len(re.findall(r"\(robomill: compensated", text)) >= c["lines_compensated
 PYEOF
 expect_exit2 "robot_path.compensation" toolpath "$R" --optimize "${FAST[@]}" --set "toolpath=$KRL_TOOLPATH" \
   --set "toolpath.file=$SOURCE/examples/programs/pocket.src" --set "toolpath.dat=$SOURCE/examples/programs/pocket.dat"
+# ψ(s) on a 60° angle head (ψ moves the arm): one angle per line, turning
+# within 20 deg/s; the re-run's joints stay within it, no sample newly at risk.
+"$ROBOMILL" toolpath "$R" --out "$WORK/psi" --quiet --optimize "${FAST[@]}" \
+  --set 'robot.tool={xyz: [0, 0, 350], rpy: [180, 60, 0]}' \
+  --set 'robot_path.redundancy_search={from: -90 deg, to: 90 deg, count: 13, per_line: true, joint_speed_max: 20 deg/s}' \
+  || fail "--optimize with a redundancy schedule exit code"
+[ -s "$WORK/psi/redundancy_schedule.csv" ] || fail "no redundancy_schedule.csv"
+/usr/bin/python3 - "$WORK/psi/summary.json" <<'PYEOF' || fail "redundancy schedule"
+import json, sys
+o = json.load(open(sys.argv[1]))["optimization"]
+r = o["redundancy"]
+assert r["per_line"] and r["changed"] and r["min_margin_after"] > r["min_margin_before"], r
+assert all(line["turn_joint_speed_deg_s"] <= 20.0 + 1e-9 for line in r["lines"]), r
+assert o["after"]["max_joint_speed_deg_s"] <= 20.0 * 1.001, o["after"]
+assert o["samples_newly_at_risk"] == 0, o
+PYEOF
 # A cap no feed can meet: an error naming the program line, nothing written.
 expect_exit2 "no feed satisfies the limits" toolpath "$R" --optimize "${FAST[@]}" \
   --set 'robot_path.feed_limits={force_max: 20 N, feed_min: 200 mm/min}'

@@ -121,7 +121,7 @@ cutting: {law: linear, Ktc: 800 N/mm^2}
 toolpath: {file: programs/pocket.nc, max_size: 8}
 stock: {box: {min: [0, 0, 0], max: [60, 40, 20]}, height_map: earlier/stock.csv}
 robot_path:
-  redundancy_search: {from: -30 deg, to: 30 deg, count: 5}
+  redundancy_search: {from: -30 deg, to: 30 deg, count: 5, per_line: true, joint_speed_max: 15 deg/s}
   deflection: contact
   offset: {measure: rms, harmonics: 20, samples: 64}
   compensation: {floor: true, min_offset: 2 um, tolerance: 3 um}

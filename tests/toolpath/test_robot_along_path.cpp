@@ -13,6 +13,7 @@
 #include <iostream>
 #include <numbers>
 #include <sstream>
+#include <tuple>
 
 #include <fmt/format.h>
 
@@ -592,6 +593,118 @@ TEST(ProgramOptimization, RedundancyAngleOfAnOffsetSpindleIsChosenOnItsMargins) 
       EXPECT_GT(recorded[i].margin, 1.0) << "sample " << i;
     }
   }
+}
+
+// The schedule ψ(s): on the 60° angle head, two program lines at right
+// angles (line 10 along +x, a link of two moves out of the cut and back
+// taking 2 s, line 11 along +y). Line 10 is best near ψ = −90°, line 11 near
+// 0°, a single angle at −45°. With a free joint-speed bound the schedule turns
+// on the link and beats every single angle; with a bound no turn can meet it
+// is the best single angle; every turn stays within its bound; the samples
+// it returns are at their line's angle with the margins the direct limits
+// give there.
+TEST(ProgramOptimization, RedundancyScheduleBeatsOneAngleAndRespectsTheJointSpeed) {
+  Fixture f("", {{"robot.tool", "{xyz: [0, 0, 350], rpy: [180, 60, 0]}"}});
+  Program program;
+  const Eigen::Vector3d corner(60e-3, 20e-3, 17e-3), above = corner + Eigen::Vector3d(0, 0, 10e-3);
+  const std::tuple<Eigen::Vector3d, Eigen::Vector3d, int> moves[] = {
+      {Eigen::Vector3d(5e-3, 20e-3, 17e-3), corner, 10},
+      {corner, above, 20},
+      {above, corner, 21},
+      {corner, Eigen::Vector3d(60e-3, 35e-3, 17e-3), 11}};
+  for (const auto& [from, to, number] : moves) {
+    Move move;
+    move.kind = MotionKind::linear;
+    move.start_m = from;
+    move.end_m = to;
+    move.feed_m_s = 0.01;
+    move.line = number;
+    program.moves.push_back(move);
+  }
+  std::vector<PathSample> samples;
+  for (int i = 0; i < 8; ++i) {
+    PathSample s = side_cut_sample((5.0 + 55.0 * i / 7.0) * 1e-3, 0.0, kPi, 10);
+    s.move = 0;
+    s.move_fraction = i / 7.0;
+    s.t_s = 5.5 * i / 7.0;
+    samples.push_back(s);
+  }
+  for (int i = 0; i < 8; ++i) {
+    PathSample s = side_cut_sample(60e-3, 0.0, kPi, 11);
+    s.tip_m.y() = (20.0 + 15.0 * i / 7.0) * 1e-3;
+    s.feed_direction = Eigen::Vector3d::UnitY();
+    s.move = 3;
+    s.move_fraction = i / 7.0;
+    s.t_s = 7.5 + 1.5 * i / 7.0;
+    samples.push_back(s);
+  }
+  RobotAlongPath along = f.along();
+  std::vector<RobotSample> out(samples.size());
+  along.evaluate(samples, out);
+  std::vector<RecordedSample> recorded;
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    ASSERT_TRUE(out[i].reachable) << i;
+    recorded.push_back({samples[i], out[i].q_rad, out[i].margin});
+  }
+  std::vector<double> psi;
+  for (int k = -6; k <= 6; ++k)
+    psi.push_back(k * kPi / 12.0);
+  std::vector<RecordedSample> one_angle = recorded;
+  const RedundancyChoice constant = choose_redundancy_angle(along, one_angle, psi, 0.02, 2);
+
+  const double free_bound = 1000.0 * kPi / 180.0;
+  std::vector<RecordedSample> free_turns = recorded;
+  const RedundancySchedule free =
+      schedule_redundancy(along, program, free_turns, psi, free_bound, 0.02, 2);
+  ASSERT_EQ(free.lines.size(), 2u);
+  EXPECT_GT(free.min_margin_after, constant.min_margin_after * 1.1);
+  EXPECT_EQ(free.turns, 1u);
+  EXPECT_TRUE(free.lines[1].turn_before);
+  EXPECT_NE(free.lines[0].to_rad, free.lines[1].to_rad);
+  for (std::size_t i = 0; i < free_turns.size(); ++i) {
+    const RedundancySchedule::Line& line = free.lines[free_turns[i].sample.move == 0 ? 0 : 1];
+    const Eigen::Isometry3d pose = robot::tool_pose(*f.setup.model, free_turns[i].q_rad);
+    EXPECT_LT(
+        (pose.linear() - robot::tool_orientation_about_axis(Eigen::Vector3d::UnitZ(), line.to_rad))
+            .norm(),
+        1e-6);
+    const double direct =
+        along.direct_limit(free_turns[i].sample, free_turns[i].q_rad).depth_limit_m / 3e-3;
+    EXPECT_NEAR(free_turns[i].margin, direct, 1e-9 * direct);
+    EXPECT_GE(free_turns[i].margin, free.min_margin_after * (1.0 - 1e-12));
+  }
+  for (const auto& line : free.lines)
+    EXPECT_LE(line.turn_joint_speed_rad_s, free_bound);
+  std::cout << fmt::format(
+      "schedule: line 10 at {:.0f} deg, line 11 at {:.0f} deg (turned on the link at {:.1f} "
+      "deg/s), min margin {:.3f} (one angle {:.0f} deg: {:.3f}, programmed {:.3f})\n",
+      free.lines[0].to_rad * 180 / kPi, free.lines[1].to_rad * 180 / kPi,
+      free.lines[1].turn_joint_speed_rad_s * 180 / kPi, free.min_margin_after,
+      constant.chosen_rad * 180 / kPi, constant.min_margin_after, free.min_margin_before);
+  // The schedule as the re-run takes it: ψ at each move's start and end,
+  // the turn spread over the link's two moves.
+  const auto by_move = free.by_move(4);
+  EXPECT_EQ(by_move[0].first, free.lines[0].from_rad);
+  EXPECT_EQ(by_move[0].second, free.lines[0].to_rad);
+  EXPECT_EQ(by_move[1].first, free.lines[0].to_rad);
+  EXPECT_NEAR(by_move[1].second, 0.5 * (free.lines[0].to_rad + free.lines[1].from_rad), 1e-12);
+  EXPECT_EQ(by_move[2].second, free.lines[1].from_rad);
+  EXPECT_EQ(by_move[3].first, free.lines[1].to_rad);
+
+  // A bound no turn can meet: the best single angle for both lines.
+  std::vector<RecordedSample> no_turns = recorded;
+  const RedundancySchedule tight =
+      schedule_redundancy(along, program, no_turns, psi, 1e-9, 0.02, 2);
+  EXPECT_EQ(tight.turns, 0u);
+  EXPECT_EQ(tight.lines[0].to_rad, tight.lines[1].to_rad);
+  EXPECT_EQ(tight.lines[1].from_rad, tight.lines[1].to_rad);
+  EXPECT_NEAR(tight.min_margin_after, constant.min_margin_after, 1e-9 * constant.min_margin_after);
+  // 10 deg/s: whatever it chooses, its turns within it.
+  std::vector<RecordedSample> slow_turns = recorded;
+  const RedundancySchedule slow =
+      schedule_redundancy(along, program, slow_turns, psi, 10.0 * kPi / 180.0, 0.02, 2);
+  for (const auto& line : slow.lines)
+    EXPECT_LE(line.turn_joint_speed_rad_s, 10.0 * kPi / 180.0);
 }
 
 TEST(RobotAlongPath, BandProcessMapsArcsToTheStraightCut) {

@@ -307,6 +307,13 @@ struct RobotPathJobSettings {
   /// `redundancy_search: {from, to, count}` (deg): the angles --optimize
   /// tries for the whole program; empty: ψ stays.
   std::vector<double> redundancy_search_rad;
+  /// `redundancy_search.per_line`: one angle per program line (the schedule
+  /// ψ(s), turning between lines within `joint_speed_max`) instead of one
+  /// for the program.
+  bool redundancy_per_line = false;
+  /// `redundancy_search.joint_speed_max` (deg/s): the schedule's turns; 0:
+  /// feed_limits.joint_speed_max, else 10 deg/s.
+  double redundancy_joint_speed_rad_s = 0.0;
   /// `deflection: static|contact`: the static tip deflection at every
   /// sample, or 000's contact boundary where a sample finishes a
   /// down-milling wall (the model of `robomill deflection`).

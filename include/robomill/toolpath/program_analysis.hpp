@@ -59,8 +59,9 @@ struct ProgramAnalysisSettings {
 
 /// One sample along the program.
 struct PathSample {
-  std::size_t move = 0;  ///< index into Program::moves
-  int line = 0;          ///< program line
+  std::size_t move = 0;        ///< index into Program::moves
+  double move_fraction = 0.0;  ///< where along the move, 0 … 1
+  int line = 0;                ///< program line
   int tool = 0;
   MotionKind kind = MotionKind::linear;
   double t_s = 0.0;  ///< program time at the sample

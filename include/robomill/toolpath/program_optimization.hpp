@@ -11,6 +11,7 @@
 
 #include <cstddef>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "robomill/toolpath/program.hpp"
@@ -89,5 +90,51 @@ RedundancyChoice choose_redundancy_angle(const RobotAlongPath& along,
                                          std::vector<RecordedSample>& samples,
                                          const std::vector<double>& candidates_rad,
                                          double min_gain = 0.02, int threads = 0);
+
+/// A redundancy angle per program line (issue 19 item 5, the schedule ψ(s)):
+/// each line with recorded samples runs at one of the candidate angles; where
+/// the angle changes from one line to the next, the robot turns the tool about
+/// its axis on the moves between them (a link, a retract) when there are any
+/// and the turn fits, else over the later line (ψ linear in the line's
+/// progress), so every joint must follow that turn (on top of the path)
+/// within `joint_speed_max`.
+/// Chosen by dynamic programming over the lines in program order to maximize
+/// the smallest margin (a line that turns counts the smaller of its two
+/// angles' margins), with every sample reachable, off the joint limits, no
+/// safe sample at risk and no more samples at risk than the programmed ψ;
+/// kept as the programmed ψ unless the smallest margin grows by more than
+/// `min_gain`. Among equal schedules the one with fewer turns wins.
+struct RedundancySchedule {
+  struct Line {
+    int line = 0;
+    std::size_t first_move = 0, last_move = 0;  ///< into Program::moves, inclusive
+    double from_rad = 0.0, to_rad = 0.0;        ///< ψ at the line's start and end
+    double min_margin = 0.0;                    ///< over its samples, both angles
+    double turn_joint_speed_rad_s = 0.0;        ///< the fastest joint during the turn
+    /// The turn happens on the moves before the line (a link or a retract
+    /// between two cuts), not during it: the line runs at to_rad alone.
+    bool turn_before = false;
+    std::size_t samples = 0;
+  };
+  std::vector<Line> lines;  ///< every line with recorded samples, in program order
+  double programmed_rad = 0.0;
+  double min_margin_before = 0.0, min_margin_after = 0.0;
+  std::size_t at_risk_before = 0, at_risk_after = 0;
+  std::size_t turns = 0;
+  bool changed() const noexcept;
+  /// ψ at the start and the end of every move (the lines' angles; moves
+  /// between lines keep the angle before them).
+  std::vector<std::pair<double, double>> by_move(std::size_t moves) const;
+};
+
+/// `program` gives the lines' moves and durations (feed moves at their
+/// programmed feeds). On return `samples` hold the postures and margins at
+/// their line's (final) angle. Throws std::invalid_argument for no
+/// candidates or a non-positive joint speed.
+RedundancySchedule schedule_redundancy(const RobotAlongPath& along, const Program& program,
+                                       std::vector<RecordedSample>& samples,
+                                       const std::vector<double>& candidates_rad,
+                                       double joint_speed_max_rad_s, double min_gain = 0.02,
+                                       int threads = 0);
 
 }  // namespace robomill::toolpath

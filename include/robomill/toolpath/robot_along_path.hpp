@@ -96,6 +96,9 @@ struct RobotPathSettings {
   /// ψ about the tool axis (001 §2.1.4) at every sample the program leaves
   /// it to the cell; an oriented sample (a KRL frame) takes the program's.
   double redundancy_rad = 0.0;
+  /// A schedule ψ(s) instead (program_optimization.hpp): ψ at the start and
+  /// the end of every move, linear along it; empty: redundancy_rad.
+  std::vector<std::pair<double, double>> redundancy_by_move;
   /// The IK's first seed (rad, one per joint); each later sample starts from
   /// the posture before it, so the robot follows one configuration.
   Eigen::VectorXd seed_rad;
