@@ -279,24 +279,36 @@ void check(const std::string& name, const std::string& text, ToolpathSettings::F
   checked.edited_lines += static_cast<int>(changed.size());
 }
 
+// Every G-code (.nc, .ngc) and APT program of the readers' corpus, with
+// its name, text, format and reader.
+using Reader = std::function<toolpath::Program(const std::string&)>;
+void for_each_gcode_and_apt(
+    const std::function<void(const std::string&, const std::string&, ToolpathSettings::Format,
+                             const Reader&, bool gcode)>& visit) {
+  const fs::path root = fs::path(ROBOMILL_SOURCE_DIR) / "tests" / "toolpath";
+  const Reader gcode = [](const std::string& t) { return read_gcode(t, {}); };
+  const Reader apt = [](const std::string& t) { return read_apt(t, {}); };
+  for (const auto& entry : fs::directory_iterator(root / "gcode")) {
+    const std::string ext = entry.path().extension().string();
+    if (entry.is_regular_file() && (ext == ".nc" || ext == ".ngc"))
+      visit(entry.path().filename().string(), text_of(entry.path()),
+            ToolpathSettings::Format::gcode, gcode, true);
+  }
+  for (const auto& entry : fs::directory_iterator(root / "apt"))
+    if (entry.is_regular_file())
+      visit(entry.path().filename().string(), text_of(entry.path()), ToolpathSettings::Format::apt,
+            apt, false);
+}
+
 }  // namespace corpus
 
 TEST(ProgramWriter, FeedsOfTheReaderCorpusRoundTrip) {
   const corpus::fs::path root = corpus::fs::path(ROBOMILL_SOURCE_DIR) / "tests" / "toolpath";
   corpus::Checked gcode, apt, krl;
-  for (const auto& entry : corpus::fs::directory_iterator(root / "gcode")) {
-    const std::string ext = entry.path().extension().string();
-    if (entry.is_regular_file() && (ext == ".nc" || ext == ".ngc"))
-      corpus::check(
-          entry.path().filename().string(), corpus::text_of(entry.path()),
-          ToolpathSettings::Format::gcode, [](const std::string& t) { return read_gcode(t, {}); },
-          gcode);
-  }
-  for (const auto& entry : corpus::fs::directory_iterator(root / "apt"))
-    if (entry.is_regular_file())
-      corpus::check(
-          entry.path().filename().string(), corpus::text_of(entry.path()),
-          ToolpathSettings::Format::apt, [](const std::string& t) { return read_apt(t, {}); }, apt);
+  corpus::for_each_gcode_and_apt(
+      [&](const std::string& name, const std::string& text, ToolpathSettings::Format format,
+          const corpus::Reader& read,
+          bool is_gcode) { corpus::check(name, text, format, read, is_gcode ? gcode : apt); });
   for (const auto& entry : corpus::fs::directory_iterator(root / "krl")) {
     if (!entry.is_regular_file() || entry.path().extension() != ".src")
       continue;
@@ -398,21 +410,11 @@ void check(const std::string& name, const std::string& text, ToolpathSettings::F
 }  // namespace points
 
 TEST(ProgramWriter, MovedPointsOfTheReaderCorpusRoundTrip) {
-  const corpus::fs::path root = corpus::fs::path(ROBOMILL_SOURCE_DIR) / "tests" / "toolpath";
   points::Checked gcode, apt;
-  for (const auto& entry : corpus::fs::directory_iterator(root / "gcode")) {
-    const std::string ext = entry.path().extension().string();
-    if (entry.is_regular_file() && (ext == ".nc" || ext == ".ngc"))
-      points::check(
-          entry.path().filename().string(), corpus::text_of(entry.path()),
-          ToolpathSettings::Format::gcode, [](const std::string& t) { return read_gcode(t, {}); },
-          gcode);
-  }
-  for (const auto& entry : corpus::fs::directory_iterator(root / "apt"))
-    if (entry.is_regular_file())
-      points::check(
-          entry.path().filename().string(), corpus::text_of(entry.path()),
-          ToolpathSettings::Format::apt, [](const std::string& t) { return read_apt(t, {}); }, apt);
+  corpus::for_each_gcode_and_apt(
+      [&](const std::string& name, const std::string& text, ToolpathSettings::Format format,
+          const corpus::Reader& read,
+          bool is_gcode) { points::check(name, text, format, read, is_gcode ? gcode : apt); });
   EXPECT_GE(gcode.programs, 20);
   EXPECT_GE(apt.programs, 4);
   EXPECT_GT(gcode.edited, 10 * gcode.skipped) << gcode.skipped;
