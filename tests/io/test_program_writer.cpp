@@ -13,6 +13,7 @@
 #include <iostream>
 #include <map>
 #include <numbers>
+#include <optional>
 #include <sstream>
 
 #include "robomill/core/error.hpp"
@@ -209,14 +210,23 @@ struct Checked {
   int programs = 0, edited_lines = 0, refused = 0;
 };
 
+// The program as its reader takes it; nullopt for one the reader refuses on
+// purpose (its own tests say why).
+std::optional<toolpath::Program> readable(
+    const std::function<toolpath::Program(const std::string&)>& read, const std::string& text) {
+  try {
+    return read(text);
+  } catch (const InputError&) {
+    return std::nullopt;
+  }
+}
+
 void check(const std::string& name, const std::string& text, ToolpathSettings::Format format,
            const std::function<toolpath::Program(const std::string&)>& read, Checked& checked) {
-  toolpath::Program before;
-  try {
-    before = read(text);
-  } catch (const InputError&) {
-    return;  // a program the reader refuses on purpose (its own tests say why)
-  }
+  std::optional<toolpath::Program> program = readable(read, text);
+  if (!program)
+    return;
+  toolpath::Program& before = *program;
   // Feeds are set per statement (an APT record's first line).
   const std::vector<int> starts = statement_starts(text, format);
   for (toolpath::Move& move : before.moves)
@@ -346,12 +356,10 @@ struct Checked {
 
 void check(const std::string& name, const std::string& text, ToolpathSettings::Format format,
            const std::function<toolpath::Program(const std::string&)>& read, Checked& checked) {
-  toolpath::Program before;
-  try {
-    before = read(text);
-  } catch (const InputError&) {
+  const std::optional<toolpath::Program> program = corpus::readable(read, text);
+  if (!program)
     return;
-  }
+  const toolpath::Program& before = *program;
   std::map<int, int> moves_on_line;
   for (const toolpath::Move& move : before.moves)
     ++moves_on_line[move.line];

@@ -115,6 +115,20 @@ struct Fixture {
   }
 };
 
+// A recorded sample an angle search returned: its posture turns the tool
+// by ψ about the (vertical) axis, its margin is the direct limit there, at
+// least the search's smallest.
+void expect_at_angle(const Fixture& f, const RobotAlongPath& along, const RecordedSample& r,
+                     double psi_rad, double min_margin) {
+  const Eigen::Isometry3d pose = robot::tool_pose(*f.setup.model, r.q_rad);
+  EXPECT_LT((pose.linear() - robot::tool_orientation_about_axis(Eigen::Vector3d::UnitZ(), psi_rad))
+                .norm(),
+            1e-6);
+  const double direct = along.direct_limit(r.sample, r.q_rad).depth_limit_m / 3e-3;
+  EXPECT_NEAR(r.margin, direct, 1e-9 * direct);
+  EXPECT_GE(r.margin, min_margin * (1.0 - 1e-12));
+}
+
 TEST(RobotAlongPath, StraightCutReducesToTheSingleCutLimitAtItsPosture) {
   // Down milling, ae = 2.5 mm on a 10 mm cutter: entry π − acos(1 − ae/R).
   const double entry = kPi - std::acos(1.0 - 2.5 / 5.0);
@@ -580,15 +594,7 @@ TEST(ProgramOptimization, RedundancyAngleOfAnOffsetSpindleIsChosenOnItsMargins) 
   ASSERT_TRUE(c.changed()) << "min margin " << c.min_margin_before << " at every ψ";
   // The returned postures are the chosen ψ's: the tool turned about its axis.
   for (std::size_t i = 0; i < recorded.size(); ++i) {
-    const Eigen::Isometry3d pose = robot::tool_pose(*f.setup.model, recorded[i].q_rad);
-    EXPECT_LT(
-        (pose.linear() - robot::tool_orientation_about_axis(Eigen::Vector3d::UnitZ(), c.chosen_rad))
-            .norm(),
-        1e-6);
-    const double direct =
-        along.direct_limit(recorded[i].sample, recorded[i].q_rad).depth_limit_m / 3e-3;
-    EXPECT_NEAR(recorded[i].margin, direct, 1e-9 * direct);
-    EXPECT_GE(recorded[i].margin, c.min_margin_after * (1.0 - 1e-12));
+    expect_at_angle(f, along, recorded[i], c.chosen_rad, c.min_margin_after);
     if (original[i].margin > 1.0) {
       EXPECT_GT(recorded[i].margin, 1.0) << "sample " << i;
     }
@@ -663,15 +669,7 @@ TEST(ProgramOptimization, RedundancyScheduleBeatsOneAngleAndRespectsTheJointSpee
   EXPECT_NE(free.lines[0].to_rad, free.lines[1].to_rad);
   for (std::size_t i = 0; i < free_turns.size(); ++i) {
     const RedundancySchedule::Line& line = free.lines[free_turns[i].sample.move == 0 ? 0 : 1];
-    const Eigen::Isometry3d pose = robot::tool_pose(*f.setup.model, free_turns[i].q_rad);
-    EXPECT_LT(
-        (pose.linear() - robot::tool_orientation_about_axis(Eigen::Vector3d::UnitZ(), line.to_rad))
-            .norm(),
-        1e-6);
-    const double direct =
-        along.direct_limit(free_turns[i].sample, free_turns[i].q_rad).depth_limit_m / 3e-3;
-    EXPECT_NEAR(free_turns[i].margin, direct, 1e-9 * direct);
-    EXPECT_GE(free_turns[i].margin, free.min_margin_after * (1.0 - 1e-12));
+    expect_at_angle(f, along, free_turns[i], line.to_rad, free.min_margin_after);
   }
   for (const auto& line : free.lines)
     EXPECT_LE(line.turn_joint_speed_rad_s, free_bound);
