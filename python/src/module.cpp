@@ -1,6 +1,6 @@
 // _robomill: the pybind11 extension behind the Python package `robomill`
 // (python/robomill/__init__.py). It calls the same compute_<name> functions
-// as the command line (apps/robomill/commands.hpp), so a job gives the same
+// as the command line (the library's robomill/commands/commands.hpp), so a job gives the same
 // numbers, tables and summary from either; tables come back as NumPy arrays
 // at full double precision (the CSV files carry 12 significant digits).
 
@@ -19,14 +19,15 @@
 #include <variant>
 #include <vector>
 
-#include "commands.hpp"
+#include "robomill/commands/command_result.hpp"
+#include "robomill/commands/commands.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/io/job.hpp"
 #include "robomill/io/summary.hpp"
 #include "robomill/monitoring/recording_analysis.hpp"
 
 namespace py = pybind11;
-using robomill::app::CommandResult;
+using robomill::commands::CommandResult;
 
 namespace {
 
@@ -134,9 +135,9 @@ py::tuple run(Compute&& compute, const std::optional<std::filesystem::path>& out
     py::gil_scoped_release release;
     result = compute();
     if (job)
-      robomill::app::add_key_inputs(result, *job);
+      robomill::commands::add_key_inputs(result, *job);
     if (out)
-      robomill::app::write_result(*out, output, result);
+      robomill::commands::write_result(*out, output, result);
   }
   return to_python(result);
 }
@@ -231,7 +232,7 @@ PYBIND11_MODULE(_robomill, m) {
                              })
       .def_property_readonly("name", [](const JobHandle& h) { return job_of(h).name; })
       .def_property_readonly("sections", [](const JobHandle& h) {
-        return robomill::app::job_sections(job_of(h));  // as `robomill validate` lists them
+        return robomill::commands::job_sections(job_of(h));  // as `robomill validate` lists them
       });
 
   using Out = std::optional<std::filesystem::path>;
@@ -245,12 +246,12 @@ PYBIND11_MODULE(_robomill, m) {
         },
         py::arg("job"), py::arg("threads") = 0, py::arg("out") = py::none());
   };
-  job_command("forces", robomill::app::compute_forces);
-  job_command("stability", robomill::app::compute_stability);
-  job_command("robot", robomill::app::compute_robot);
-  job_command("optimize", robomill::app::compute_optimize);
-  job_command("advise", robomill::app::compute_advise);
-  job_command("surface", robomill::app::compute_surface);
+  job_command("forces", robomill::commands::compute_forces);
+  job_command("stability", robomill::commands::compute_stability);
+  job_command("robot", robomill::commands::compute_robot);
+  job_command("optimize", robomill::commands::compute_optimize);
+  job_command("advise", robomill::commands::compute_advise);
+  job_command("surface", robomill::commands::compute_surface);
   m.def(
       "toolpath",
       [](const JobHandle& handle, int threads, const Out& out, bool optimize) {
@@ -258,13 +259,13 @@ PYBIND11_MODULE(_robomill, m) {
         // In memory: the samples come back as arrays (the command line
         // streams them to samples.csv instead).
         return run(
-            [&] { return robomill::app::compute_toolpath(job, threads, {}, false, optimize); }, out,
-            job.output, &job);
+            [&] { return robomill::commands::compute_toolpath(job, threads, {}, {}, optimize); },
+            out, job.output, &job);
       },
       py::arg("job"), py::arg("threads") = 0, py::arg("out") = py::none(),
       py::arg("optimize") = false);
   job_command("listen", [](const robomill::io::Job& job, int threads) {
-    return robomill::app::compute_listen(job, threads);
+    return robomill::commands::compute_listen(job, threads);
   });
   // The detector on samples already in memory (a NumPy array): the same
   // analysis `listen` runs on a file, spectra back as arrays.
@@ -335,22 +336,24 @@ PYBIND11_MODULE(_robomill, m) {
       "deflection",
       [](const JobHandle& handle, int threads, const Out& out) {
         const robomill::io::Job& job = job_of(handle);
-        return run([&] { return robomill::app::compute_deflection(job, threads); }, out, job.output,
-                   &job);
+        return run([&] { return robomill::commands::compute_deflection(job, threads); }, out,
+                   job.output, &job);
       },
       py::arg("job"), py::arg("threads") = 0, py::arg("out") = py::none());
   m.def(
       "fit_modes",
       [](const JobHandle& handle, const Out& out) {
         const robomill::io::Job& job = job_of(handle);
-        return run([&] { return robomill::app::compute_fit_modes(job); }, out, job.output, &job);
+        return run([&] { return robomill::commands::compute_fit_modes(job); }, out, job.output,
+                   &job);
       },
       py::arg("job"), py::arg("out") = py::none());
   m.def(
       "simulate",
       [](const JobHandle& handle, const Out& out) {
         const robomill::io::Job& job = job_of(handle);
-        return run([&] { return robomill::app::compute_simulate(job); }, out, job.output, &job);
+        return run([&] { return robomill::commands::compute_simulate(job); }, out, job.output,
+                   &job);
       },
       py::arg("job"), py::arg("out") = py::none());
   m.def(
@@ -359,7 +362,7 @@ PYBIND11_MODULE(_robomill, m) {
          const std::string& step, const std::string& spacing, int points, const std::string& kind,
          const std::string& format, double noise, std::uint32_t seed, const Out& out) {
         const robomill::io::Job& job = job_of(handle);
-        robomill::app::FrfCommandOptions options;
+        robomill::commands::FrfSettings options;
         options.from = from;
         options.to = to;
         options.step = step;
@@ -369,7 +372,8 @@ PYBIND11_MODULE(_robomill, m) {
         options.format = format;
         options.noise = noise;
         options.seed = seed;
-        return run([&] { return robomill::app::compute_frf(job, options); }, out, job.output, &job);
+        return run([&] { return robomill::commands::compute_frf(job, options); }, out, job.output,
+                   &job);
       },
       py::arg("job"), py::arg("from_"), py::arg("to"), py::arg("step"), py::arg("spacing"),
       py::arg("points"), py::arg("kind"), py::arg("format"), py::arg("noise"), py::arg("seed"),
@@ -380,7 +384,7 @@ PYBIND11_MODULE(_robomill, m) {
          const std::string& teeth, const std::string& ap, const std::string& ae,
          const std::string& diameter, const std::string& direction, const std::string& measured_on,
          const Out& out) {
-        robomill::app::IdentifyOptions options;
+        robomill::commands::IdentifyCuttingInputs options;
         options.data_file = data;
         options.job_file = job_file;
         options.teeth = teeth;
@@ -389,7 +393,7 @@ PYBIND11_MODULE(_robomill, m) {
         options.diameter = diameter;
         options.direction = direction;
         options.measured_on = measured_on;
-        return run([&] { return robomill::app::compute_identify_cutting(options); }, out,
+        return run([&] { return robomill::commands::compute_identify_cutting(options); }, out,
                    robomill::io::OutputSettings{}, nullptr);
       },
       py::arg("data"), py::arg("job_file"), py::arg("teeth"), py::arg("ap"), py::arg("ae"),
@@ -400,14 +404,14 @@ PYBIND11_MODULE(_robomill, m) {
       [](const std::filesystem::path& data, const JobHandle& handle, double max_condition,
          bool synthesize, double noise, std::uint32_t seed, const Out& out) {
         const robomill::io::Job& job = job_of(handle);
-        robomill::app::IdentifyStiffnessOptions options;
+        robomill::commands::IdentifyStiffnessSettings options;
         options.data_file = data;
         options.max_condition = max_condition;
         options.synthesize = synthesize;
         options.noise = noise;
         options.seed = seed;
-        return run([&] { return robomill::app::compute_identify_stiffness(job, options); }, out,
-                   robomill::io::OutputSettings{}, &job);
+        return run([&] { return robomill::commands::compute_identify_stiffness(job, options); },
+                   out, robomill::io::OutputSettings{}, &job);
       },
       py::arg("data"), py::arg("job"), py::arg("max_condition"), py::arg("synthesize"),
       py::arg("noise"), py::arg("seed"), py::arg("out") = py::none());

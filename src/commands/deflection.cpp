@@ -11,12 +11,12 @@
 #include <nlohmann/json.hpp>
 #include <numbers>
 
-#include "commands.hpp"
 #include "robomill/analysis/deflection_sweep.hpp"
+#include "robomill/commands/commands.hpp"
 #include "robomill/io/csv.hpp"
 #include "robomill/io/summary.hpp"
 
-namespace robomill::app {
+namespace robomill::commands {
 namespace {
 
 constexpr double kDegPerRad = 180.0 / std::numbers::pi;
@@ -86,10 +86,4 @@ CommandResult compute_deflection(io::Job job, int threads) {
   return result;
 }
 
-int run_deflection(const JobCommandOptions& options) {
-  return run_job_command(options, "deflection", [&](const io::Job& job) {
-    return compute_deflection(job, options.threads);
-  });
-}
-
-}  // namespace robomill::app
+}  // namespace robomill::commands

@@ -10,12 +10,12 @@
 #include <iostream>
 #include <numbers>
 
-#include "commands.hpp"
 #include "robomill/analysis/stability_diagram.hpp"
+#include "robomill/commands/commands.hpp"
 #include "robomill/io/csv.hpp"
 #include "robomill/io/summary.hpp"
 
-namespace robomill::app {
+namespace robomill::commands {
 namespace {
 
 constexpr double kRpmPerRadS = 60.0 / (2.0 * std::numbers::pi);
@@ -249,10 +249,4 @@ CommandResult compute_stability(const io::Job& job, int threads) {
   return result;
 }
 
-int run_stability(const JobCommandOptions& options) {
-  return run_job_command(options, "stability", [&](const io::Job& job) {
-    return compute_stability(job, options.threads);
-  });
-}
-
-}  // namespace robomill::app
+}  // namespace robomill::commands

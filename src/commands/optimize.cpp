@@ -13,14 +13,14 @@
 #include <nlohmann/json.hpp>
 #include <numbers>
 
-#include "commands.hpp"
+#include "robomill/commands/commands.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/io/csv.hpp"
 #include "robomill/io/summary.hpp"
 #include "robomill/planning/pose_optimization.hpp"
 #include "robomill/stability/lobes.hpp"
 
-namespace robomill::app {
+namespace robomill::commands {
 namespace {
 
 constexpr double kDegPerRad = 180.0 / std::numbers::pi;
@@ -250,10 +250,4 @@ CommandResult compute_optimize(const io::Job& job, int threads) {
   return output;
 }
 
-int run_optimize(const JobCommandOptions& options) {
-  return run_job_command(options, "optimize", [&](const io::Job& job) {
-    return compute_optimize(job, options.threads);
-  });
-}
-
-}  // namespace robomill::app
+}  // namespace robomill::commands

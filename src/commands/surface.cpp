@@ -14,12 +14,12 @@
 #include <nlohmann/json.hpp>
 #include <numbers>
 
-#include "commands.hpp"
+#include "robomill/commands/commands.hpp"
 #include "robomill/io/csv.hpp"
 #include "robomill/io/summary.hpp"
 #include "robomill/io/surface_run.hpp"
 
-namespace robomill::app {
+namespace robomill::commands {
 namespace {
 
 constexpr double kDegree = std::numbers::pi / 180.0;
@@ -213,9 +213,4 @@ CommandResult compute_surface(const io::Job& job, int threads) {
   return output;
 }
 
-int run_surface(const JobCommandOptions& options) {
-  return run_job_command(options, "surface",
-                         [&](const io::Job& job) { return compute_surface(job, options.threads); });
-}
-
-}  // namespace robomill::app
+}  // namespace robomill::commands

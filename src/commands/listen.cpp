@@ -15,12 +15,12 @@
 #include <optional>
 #include <variant>
 
-#include "commands.hpp"
+#include "robomill/commands/commands.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/io/recording.hpp"
 #include "robomill/monitoring/recording_analysis.hpp"
 
-namespace robomill::app {
+namespace robomill::commands {
 namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
@@ -212,7 +212,7 @@ nlohmann::json recording_json(const Judged& j, int teeth) {
 
 }  // namespace
 
-CommandResult compute_listen(const io::Job& job, int threads, bool progress) {
+CommandResult compute_listen(const io::Job& job, int threads, const Progress& progress) {
   if (job.recordings.empty())
     throw InputError("recording", 0,
                      "robomill listen needs a recording: section (or recordings: [...]) naming "
@@ -240,10 +240,14 @@ CommandResult compute_listen(const io::Job& job, int threads, bool progress) {
       j.depth_m = job.process->axial_depth_m;
     const double commanded_hz = j.commanded_rad_s / kTwoPi;
     monitoring::ListenOptions options = detector_options(job, spec, commanded_hz, teeth);
-    ProgressBar bar(progress, job.recordings.size() > 1
+    const std::string stage = job.recordings.size() > 1
                                   ? fmt::format("listen {}/{}", r + 1, job.recordings.size())
-                                  : std::string("listen"));
-    options.progress = [&bar](double fraction) { bar(fraction); };
+                                  : std::string("listen");
+    const auto bar = [&](double fraction) {
+      if (progress)
+        progress(stage, fraction);
+    };
+    options.progress = bar;
     const std::unique_ptr<monitoring::SignalSource> source = io::open_recording(spec);
     j.info = source->info();
     j.analysis = monitoring::analyze_recording(*source, options);
@@ -388,10 +392,4 @@ CommandResult compute_listen(const io::Job& job, int threads, bool progress) {
   return result;
 }
 
-int run_listen(const JobCommandOptions& options) {
-  return run_job_command(options, "listen", [&](const io::Job& job) {
-    return compute_listen(job, options.threads, !options.quiet);
-  });
-}
-
-}  // namespace robomill::app
+}  // namespace robomill::commands

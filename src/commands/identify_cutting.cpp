@@ -8,7 +8,7 @@
 #include <numbers>
 #include <optional>
 
-#include "commands.hpp"
+#include "robomill/commands/commands.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/cutting/coefficient_identification.hpp"
 #include "robomill/cutting/engagement.hpp"
@@ -16,7 +16,7 @@
 #include "robomill/io/summary.hpp"
 #include "robomill/io/units.hpp"
 
-namespace robomill::app {
+namespace robomill::commands {
 namespace {
 
 /// A length typed on the command line: "2", "2 mm", "0.002 m" (bare = mm).
@@ -47,7 +47,7 @@ struct TestSetup {
   cutting::MillingDirection direction = cutting::MillingDirection::down;
 };
 
-TestSetup setup_from(const IdentifyOptions& options) {
+TestSetup setup_from(const IdentifyCuttingInputs& options) {
   TestSetup setup;
   if (!options.job_file.empty()) {
     const io::Job job = io::load_job(options.job_file);
@@ -103,7 +103,7 @@ cutting::Engagement engagement_for(const TestSetup& setup, std::optional<double>
 
 }  // namespace
 
-CommandResult compute_identify_cutting(const IdentifyOptions& options) {
+CommandResult compute_identify_cutting(const IdentifyCuttingInputs& options) {
   const TestSetup setup = setup_from(options);
   const io::CsvTable data = io::read_csv(options.data_file);
   const std::string source = options.data_file.string();
@@ -203,14 +203,4 @@ CommandResult compute_identify_cutting(const IdentifyOptions& options) {
   return result;
 }
 
-int run_identify_cutting(const IdentifyOptions& options) {
-  const CommandResult result = compute_identify_cutting(options);
-  const std::filesystem::path out =
-      options.out_dir.empty() ? std::filesystem::path("out/identify-cutting") : options.out_dir;
-  write_result(out, io::OutputSettings{}, result, !options.quiet);
-  if (!options.quiet)
-    std::cout << result.message << "  written to " << out.string() << '\n';
-  return 0;
-}
-
-}  // namespace robomill::app
+}  // namespace robomill::commands

@@ -15,12 +15,12 @@
 #include <nlohmann/json.hpp>
 #include <numbers>
 
-#include "commands.hpp"
 #include "robomill/analysis/cutting_parameter_advice.hpp"
+#include "robomill/commands/commands.hpp"
 #include "robomill/io/csv.hpp"
 #include "robomill/io/summary.hpp"
 
-namespace robomill::app {
+namespace robomill::commands {
 namespace {
 
 constexpr double kRpmPerRadS = 60.0 / (2.0 * std::numbers::pi);
@@ -220,17 +220,4 @@ CommandResult compute_advise(const io::Job& job, int threads) {
   return result;
 }
 
-int run_advise(const JobCommandOptions& options) {
-  const io::Job job = load(options);
-  CommandResult result = compute_advise(job, options.threads);
-  const std::filesystem::path out = output_dir(options, job, "advise");
-  add_key_inputs(result, job);
-  write_result(out, job.output, result, !options.quiet);
-  if (!options.quiet)
-    std::cout << result.message
-              << fmt::format("  {:.2f} s; written to {}\n",
-                             result.summary["elapsed_s"].get<double>(), out.string());
-  return 0;
-}
-
-}  // namespace robomill::app
+}  // namespace robomill::commands

@@ -10,13 +10,13 @@
 #include <nlohmann/json.hpp>
 #include <numbers>
 
-#include "commands.hpp"
+#include "robomill/commands/commands.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/io/csv.hpp"
 #include "robomill/io/structure.hpp"
 #include "robomill/io/summary.hpp"
 
-namespace robomill::app {
+namespace robomill::commands {
 namespace {
 
 std::string direction_name(const dynamics::Frf& frf) {
@@ -143,9 +143,4 @@ CommandResult compute_fit_modes(const io::Job& job) {
   return result;
 }
 
-int run_fit_modes(const JobCommandOptions& options) {
-  return run_job_command(options, "fit-modes",
-                         [&](const io::Job& job) { return compute_fit_modes(job); });
-}
-
-}  // namespace robomill::app
+}  // namespace robomill::commands

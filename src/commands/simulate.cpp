@@ -14,7 +14,7 @@
 #include <nlohmann/json.hpp>
 #include <numbers>
 
-#include "commands.hpp"
+#include "robomill/commands/commands.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/cutting/engagement.hpp"
 #include "robomill/cutting/milling_forces.hpp"
@@ -28,7 +28,7 @@
 #include "robomill/simulation/simulator.hpp"
 #include "robomill/simulation/spectrum.hpp"
 
-namespace robomill::app {
+namespace robomill::commands {
 namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
@@ -359,9 +359,4 @@ CommandResult compute_simulate(const io::Job& job) {
   return output;
 }
 
-int run_simulate(const JobCommandOptions& options) {
-  return run_job_command(options, "simulate",
-                         [&](const io::Job& job) { return compute_simulate(job); });
-}
-
-}  // namespace robomill::app
+}  // namespace robomill::commands

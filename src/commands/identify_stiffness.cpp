@@ -29,7 +29,7 @@
 #include <optional>
 #include <sstream>
 
-#include "commands.hpp"
+#include "robomill/commands/commands.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/core/random.hpp"
 #include "robomill/io/csv.hpp"
@@ -38,7 +38,7 @@
 #include "robomill/robot/stiffness.hpp"
 #include "robomill/robot/stiffness_identification.hpp"
 
-namespace robomill::app {
+namespace robomill::commands {
 namespace {
 
 constexpr double kDegPerRad = 180.0 / std::numbers::pi;
@@ -199,7 +199,7 @@ nlohmann::json vector_json(const Eigen::VectorXd& v) {
 }  // namespace
 
 CommandResult compute_identify_stiffness(const io::Job& job,
-                                         const IdentifyStiffnessOptions& options) {
+                                         const IdentifyStiffnessSettings& options) {
   io::require(job, {io::Section::robot});
   const robot::RobotModel model(job.robot->description);
   std::vector<std::string> columns;
@@ -313,20 +313,4 @@ CommandResult compute_identify_stiffness(const io::Job& job,
   return result;
 }
 
-int run_identify_stiffness(const IdentifyStiffnessOptions& options) {
-  const io::Job job = load(options.job);
-  CommandResult result = compute_identify_stiffness(job, options);
-  add_key_inputs(result, job);
-  const std::filesystem::path out = output_dir(options.job, job, "identify-stiffness");
-  // Written whatever the job's output: section says (the files are the result).
-  write_result(out, io::OutputSettings{}, result, !options.job.quiet);
-  if (!options.job.quiet) {
-    if (options.synthesize)
-      std::cout << result.message << " → " << (out / "loading_tests.csv").string() << '\n';
-    else
-      std::cout << result.message << "  written to " << out.string() << '\n';
-  }
-  return 0;
-}
-
-}  // namespace robomill::app
+}  // namespace robomill::commands

@@ -12,7 +12,7 @@
 #include <nlohmann/json.hpp>
 #include <numbers>
 
-#include "commands.hpp"
+#include "robomill/commands/commands.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/core/parallel.hpp"
 #include "robomill/io/csv.hpp"
@@ -22,7 +22,7 @@
 #include "robomill/robot/reduced_model.hpp"
 #include "robomill/robot/stiffness.hpp"
 
-namespace robomill::app {
+namespace robomill::commands {
 namespace {
 
 constexpr double kDegPerRad = 180.0 / std::numbers::pi;
@@ -319,9 +319,4 @@ CommandResult compute_robot(const io::Job& job, int threads) {
   return result;
 }
 
-int run_robot(const JobCommandOptions& options) {
-  return run_job_command(options, "robot",
-                         [&](const io::Job& job) { return compute_robot(job, options.threads); });
-}
-
-}  // namespace robomill::app
+}  // namespace robomill::commands

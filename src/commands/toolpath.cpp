@@ -13,7 +13,7 @@
 #include <numbers>
 #include <set>
 
-#include "commands.hpp"
+#include "robomill/commands/commands.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/io/csv.hpp"
 #include "robomill/io/output_bundle.hpp"
@@ -28,7 +28,7 @@
 #include "robomill/toolpath/program_optimization.hpp"
 #include "robomill/toolpath/robot_along_path.hpp"
 
-namespace robomill::app {
+namespace robomill::commands {
 namespace {
 
 constexpr double kDegPerRad = 180.0 / std::numbers::pi;
@@ -1061,7 +1061,7 @@ nlohmann::json warnings_json(const toolpath::ProgramAnalysis& analysis) {
 }  // namespace
 
 CommandResult compute_toolpath(const io::Job& job, int threads,
-                               const std::filesystem::path& samples_file, bool progress,
+                               const std::filesystem::path& samples_file, const Progress& progress,
                                bool optimize) {
   io::require(job, {io::Section::cutting});
   if (!job.toolpath)
@@ -1152,7 +1152,10 @@ CommandResult compute_toolpath(const io::Job& job, int threads,
         throw Error("cannot write " + samples_file.string());
     }
   };
-  ProgressBar bar(progress, "toolpath");
+  const auto bar = [&](double fraction) {
+    if (progress)
+      progress("toolpath", fraction);
+  };
   const toolpath::ProgramAnalysis analysis =
       toolpath::analyse_program(program, tooling, *job.cutting, stock, analysis_settings, sink,
                                 [&](double fraction) { bar(fraction); });
@@ -1292,29 +1295,4 @@ CommandResult compute_toolpath(const io::Job& job, int threads,
   return result;
 }
 
-int run_toolpath(const JobCommandOptions& options) {
-  const io::Job job = load(options);
-  const std::filesystem::path out = output_dir(options, job, "toolpath");
-  // samples.csv streams into the output folder while the program runs; a run
-  // that fails leaves neither it nor a folder it had to create.
-  std::error_code ignored;
-  const bool out_existed = std::filesystem::exists(out, ignored);
-  io::OutputBundle staging(out);
-  const std::filesystem::path samples_file = staging.temporary_for("samples.csv");
-  CommandResult result;
-  try {
-    result = compute_toolpath(job, options.threads, samples_file, !options.quiet, options.optimize);
-  } catch (...) {
-    std::filesystem::remove(samples_file, ignored);
-    if (!out_existed)
-      std::filesystem::remove(out, ignored);  // only if empty
-    throw;
-  }
-  add_key_inputs(result, job);
-  write_result(out, job.output, result, !options.quiet);
-  if (!options.quiet)
-    std::cout << result.message << "  written to " << out.string() << '\n';
-  return 0;
-}
-
-}  // namespace robomill::app
+}  // namespace robomill::commands

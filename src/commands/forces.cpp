@@ -6,12 +6,12 @@
 #include <iostream>
 #include <numbers>
 
-#include "commands.hpp"
+#include "robomill/commands/commands.hpp"
 #include "robomill/cutting/milling_forces.hpp"
 #include "robomill/io/csv.hpp"
 #include "robomill/io/summary.hpp"
 
-namespace robomill::app {
+namespace robomill::commands {
 namespace {
 
 constexpr double kDegPerRad = 180.0 / std::numbers::pi;
@@ -104,9 +104,4 @@ CommandResult compute_forces(const io::Job& job, int threads) {
   return result;
 }
 
-int run_forces(const JobCommandOptions& options) {
-  return run_job_command(options, "forces",
-                         [&](const io::Job& job) { return compute_forces(job, options.threads); });
-}
-
-}  // namespace robomill::app
+}  // namespace robomill::commands

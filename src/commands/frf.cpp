@@ -10,7 +10,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "commands.hpp"
+#include "robomill/commands/commands.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/dynamics/frf.hpp"
 #include "robomill/dynamics/frf_noise.hpp"
@@ -19,7 +19,7 @@
 #include "robomill/io/uff58.hpp"
 #include "robomill/io/units.hpp"
 
-namespace robomill::app {
+namespace robomill::commands {
 namespace {
 
 /// A frequency option: "10 Hz", "6 kHz" or a bare number in Hz.
@@ -49,7 +49,7 @@ dynamics::FrfKind kind_option(const std::string& text) {
 
 }  // namespace
 
-CommandResult compute_frf(const io::Job& job, const FrfCommandOptions& options) {
+CommandResult compute_frf(const io::Job& job, const FrfSettings& options) {
   io::require(job, {io::Section::modes});
   const dynamics::ModalModel modes = io::modal_model(job);
 
@@ -167,15 +167,4 @@ CommandResult compute_frf(const io::Job& job, const FrfCommandOptions& options) 
   return result;
 }
 
-int run_frf(const FrfCommandOptions& options) {
-  const io::Job job = load(options.job);
-  CommandResult result = compute_frf(job, options);
-  const std::filesystem::path out = output_dir(options.job, job, "frf");
-  add_key_inputs(result, job);
-  write_result(out, job.output, result, !options.job.quiet);
-  if (!options.job.quiet)
-    std::cout << result.message << "  written to " << out.string() << '\n';
-  return 0;
-}
-
-}  // namespace robomill::app
+}  // namespace robomill::commands
