@@ -75,7 +75,9 @@ int run_optimize(const JobCommandOptions& options);
 int run_advise(const JobCommandOptions& options);
 int run_simulate(const JobCommandOptions& options);
 int run_surface(const JobCommandOptions& options);
-int run_toolpath(const JobCommandOptions& options);
+/// With `sharing` (rank 0 of several MPI ranks, mpi.hpp) the robot's blocks
+/// are shared out; the files are the same.
+int run_toolpath(const JobCommandOptions& options, const analysis::BlockSharing* sharing = nullptr);
 
 /// `robomill identify-cutting DATA`: the inputs plus where to write.
 struct IdentifyOptions : commands::IdentifyCuttingInputs {

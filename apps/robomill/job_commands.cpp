@@ -8,6 +8,7 @@
 #include <system_error>
 
 #include "commands.hpp"
+#include "robomill/analysis/program_run.hpp"
 #include "robomill/io/output_bundle.hpp"
 
 namespace robomill::app {
@@ -114,7 +115,7 @@ int run_surface(const JobCommandOptions& options) {
   });
 }
 
-int run_toolpath(const JobCommandOptions& options) {
+int run_toolpath(const JobCommandOptions& options, const analysis::BlockSharing* sharing) {
   const io::Job job = load(options);
   const std::filesystem::path out = output_dir(options, job, "toolpath");
   // samples.csv streams into the output folder while the program runs; a run
@@ -126,13 +127,17 @@ int run_toolpath(const JobCommandOptions& options) {
   CommandResult result;
   try {
     result = commands::compute_toolpath(job, options.threads, samples_file,
-                                        progress_bars(!options.quiet), options.optimize);
+                                        progress_bars(!options.quiet), options.optimize,
+                                        sharing);
   } catch (...) {
     std::filesystem::remove(samples_file, ignored);
     if (!out_existed)
       std::filesystem::remove(out, ignored);  // only if empty
     throw;
   }
+  if (sharing && sharing->processes > 1)
+    result.message +=
+        fmt::format("  the robot's blocks shared over {} MPI ranks\n", sharing->processes);
   add_key_inputs(result, job);
   write_result(out, job.output, result, !options.quiet);
   if (!options.quiet)

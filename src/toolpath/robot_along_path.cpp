@@ -454,11 +454,13 @@ stability::ZeroOrderLimit RobotAlongPath::direct_limit(const PathSample& sample,
   return limits_at(sample, q_rad, {std::abs(sample.spindle_rad_s)}).front();
 }
 
-void RobotAlongPath::limits(std::span<const PathSample> samples, std::span<RobotSample> out) {
+ShortcutChecks RobotAlongPath::limits(std::span<const PathSample> samples,
+                                      std::span<RobotSample> out) const {
   // The samples that get a limit, and the runs they form.
+  ShortcutChecks totals;
   std::vector<std::size_t> index;
   if (!stability_.enabled)
-    return;
+    return totals;
   for (std::size_t i = 0; i < samples.size(); ++i) {
     const PathSample& s = samples[i];
     if (s.analysed && out[i].reachable && !s.plunge && s.kind != MotionKind::rapid &&
@@ -467,7 +469,7 @@ void RobotAlongPath::limits(std::span<const PathSample> samples, std::span<Robot
       index.push_back(i);
   }
   if (index.empty())
-    return;
+    return totals;
   std::vector<std::pair<std::size_t, std::size_t>> chunks;  // into `index`, inclusive
   const auto same_run = [&](std::size_t a, std::size_t b) {
     const PathSample& x = samples[index[a]];
@@ -551,9 +553,9 @@ void RobotAlongPath::limits(std::span<const PathSample> samples, std::span<Robot
     compute(checks[c]);
     errors[c] = std::abs(shortcut - out[i].depth_limit_m) / out[i].depth_limit_m;
   });
-  summary_.checked += checks.size();
+  totals.checked = checks.size();
   for (const double e : errors)
-    summary_.shortcut_max_error = std::max(summary_.shortcut_max_error, e);
+    totals.max_error = std::max(totals.max_error, e);
   for (std::size_t k = 0; k < index.size(); ++k) {
     RobotSample& r = out[index[k]];
     const PathSample& s = samples[index[k]];
@@ -563,24 +565,45 @@ void RobotAlongPath::limits(std::span<const PathSample> samples, std::span<Robot
     r.at_risk = s.axial_depth_m * settings_.risk_margin >= r.depth_limit_m;
     if (!r.chatter && !r.limited)
       r.chatter_frequency_hz = 0.0;
-    summary_.exact_limits += exact[k] ? 1 : 0;
+    totals.exact += exact[k] ? 1 : 0;
   }
+  return totals;
 }
 
 void RobotAlongPath::evaluate(std::span<const PathSample> samples, std::span<RobotSample> out) {
+  postures(samples, out);
+  const ShortcutChecks checks = compute(samples, out);
+  record(samples, out, checks);
+}
+
+void RobotAlongPath::postures(std::span<const PathSample> samples, std::span<RobotSample> out) {
   if (out.size() != samples.size())
     throw std::invalid_argument("robot along the path: one result per sample");
-  // Postures in order (each IK starts from the posture before), the rest in
-  // parallel.
+  // In order: each IK starts from the posture before.
   for (std::size_t i = 0; i < samples.size(); ++i) {
     out[i] = RobotSample{};
     posture(samples[i], out[i]);
   }
+}
+
+ShortcutChecks RobotAlongPath::compute(std::span<const PathSample> samples,
+                                       std::span<RobotSample> out) const {
+  if (out.size() != samples.size())
+    throw std::invalid_argument("robot along the path: one result per sample");
   core::parallel_for(samples.size(), settings_.threads, [&](std::size_t i) {
     deflect(samples[i], out[i]);
     steady_offset(samples[i], out[i]);
   });
-  limits(samples, out);
+  return limits(samples, out);
+}
+
+void RobotAlongPath::record(std::span<const PathSample> samples, std::span<const RobotSample> out,
+                            const ShortcutChecks& checks) {
+  if (out.size() != samples.size())
+    throw std::invalid_argument("robot along the path: one result per sample");
+  summary_.exact_limits += checks.exact;
+  summary_.checked += checks.checked;
+  summary_.shortcut_max_error = std::max(summary_.shortcut_max_error, checks.max_error);
   for (std::size_t i = 0; i < samples.size(); ++i)
     tally(samples[i], out[i]);
 }
@@ -711,6 +734,62 @@ std::vector<Eigen::Vector3d> RobotAlongPath::joint_origins(const Eigen::VectorXd
       origins.push_back(cell);
   }
   return origins;
+}
+
+// The layout: the flags and scalars in RobotSample's order, the vectors'
+// components, then q's size and q padded to `dof`.
+std::size_t packed_size(int dof) {
+  return 26 + static_cast<std::size_t>(std::max(dof, 0));
+}
+
+void pack(const RobotSample& r, int dof, double* out) {
+  const auto flag = [](bool b) { return b ? 1.0 : 0.0; };
+  const double head[] = {flag(r.reachable),      r.redundancy_rad,
+                         r.joint_margin_rad,     flag(r.joint_limit),
+                         r.singularity,          flag(r.stability),
+                         flag(r.exact),          r.depth_limit_m,
+                         flag(r.limited),        r.margin,
+                         flag(r.chatter),        flag(r.at_risk),
+                         r.chatter_frequency_hz, r.deflection_m.x(),
+                         r.deflection_m.y(),     r.deflection_m.z(),
+                         r.form_error_m,         r.floor_error_m,
+                         flag(r.wall),           r.wall_direction.x(),
+                         r.wall_direction.y(),   r.wall_direction.z(),
+                         flag(r.contact),        r.steady_offset_m,
+                         flag(r.has_offset),     static_cast<double>(r.q_rad.size())};
+  std::copy(std::begin(head), std::end(head), out);
+  for (int j = 0; j < dof; ++j)
+    out[26 + j] = j < r.q_rad.size() ? r.q_rad[j] : 0.0;
+}
+
+RobotSample unpack(const double* in, int dof) {
+  RobotSample r;
+  r.reachable = in[0] != 0.0;
+  r.redundancy_rad = in[1];
+  r.joint_margin_rad = in[2];
+  r.joint_limit = in[3] != 0.0;
+  r.singularity = in[4];
+  r.stability = in[5] != 0.0;
+  r.exact = in[6] != 0.0;
+  r.depth_limit_m = in[7];
+  r.limited = in[8] != 0.0;
+  r.margin = in[9];
+  r.chatter = in[10] != 0.0;
+  r.at_risk = in[11] != 0.0;
+  r.chatter_frequency_hz = in[12];
+  r.deflection_m = Eigen::Vector3d(in[13], in[14], in[15]);
+  r.form_error_m = in[16];
+  r.floor_error_m = in[17];
+  r.wall = in[18] != 0.0;
+  r.wall_direction = Eigen::Vector3d(in[19], in[20], in[21]);
+  r.contact = in[22] != 0.0;
+  r.steady_offset_m = in[23];
+  r.has_offset = in[24] != 0.0;
+  const int size = std::clamp(static_cast<int>(in[25]), 0, std::min(dof, 8));
+  r.q_rad.resize(size);
+  for (int j = 0; j < size; ++j)
+    r.q_rad[j] = in[26 + j];
+  return r;
 }
 
 }  // namespace robomill::toolpath

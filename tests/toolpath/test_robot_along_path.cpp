@@ -205,6 +205,57 @@ TEST(RobotAlongPath, InterpolatedLimitsStayWithinTheToleranceOfTheDirectOnes) {
   EXPECT_LE(worst, 0.01) << "largest interpolation error " << worst;
 }
 
+// analysis::BlockSharing (MPI ranks): a block computed by another process
+// (its postures walked there too, its results packed and unpacked) gives the
+// results and totals of the single process, bit for bit.
+TEST(RobotAlongPath, BlocksComputedElsewhereGiveTheSameResults) {
+  Fixture f("robot_path: {tolerance: 1 %, max_span: 20, check_every: 5}\n");
+  const double entry = kPi - std::acos(1.0 - 2.5 / 5.0);
+  std::vector<std::vector<PathSample>> blocks(3);
+  for (int i = 0; i < 150; ++i)
+    blocks[static_cast<std::size_t>(i / 50)].push_back(
+        side_cut_sample(-100e-3 + 1.5e-3 * i, i < 90 ? entry : 0.0, kPi, 10 + i / 20));
+  RobotAlongPath alone = f.along(), root = f.along(), other = f.along();
+  const int dof = f.setup.model->dof();
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    std::vector<RobotSample> expected(blocks[b].size()), here(blocks[b].size()),
+        there(blocks[b].size());
+    alone.evaluate(blocks[b], expected);
+    root.postures(blocks[b], here);
+    other.postures(blocks[b], there);
+    ShortcutChecks checks;
+    if (b == 1) {  // computed by the other process, sent packed
+      checks = other.compute(blocks[b], there);
+      std::vector<double> message(packed_size(dof) * there.size());
+      for (std::size_t i = 0; i < there.size(); ++i)
+        pack(there[i], dof, message.data() + i * packed_size(dof));
+      for (std::size_t i = 0; i < here.size(); ++i)
+        here[i] = unpack(message.data() + i * packed_size(dof), dof);
+    } else {
+      checks = root.compute(blocks[b], here);
+    }
+    root.record(blocks[b], here, checks);
+    for (std::size_t i = 0; i < here.size(); ++i) {
+      std::vector<double> a(packed_size(dof)), c(packed_size(dof));
+      pack(expected[i], dof, a.data());
+      pack(here[i], dof, c.data());
+      ASSERT_EQ(a, c) << "block " << b << " sample " << i;
+      ASSERT_EQ(expected[i].q_rad, here[i].q_rad);
+    }
+  }
+  const RobotPathSummary a = alone.finish(), c = root.finish();
+  EXPECT_GT(a.checked, 0u);
+  EXPECT_EQ(a.exact_limits, c.exact_limits);
+  EXPECT_EQ(a.checked, c.checked);
+  EXPECT_EQ(a.shortcut_max_error, c.shortcut_max_error);
+  EXPECT_EQ(a.min_margin, c.min_margin);
+  EXPECT_EQ(a.min_margin_line, c.min_margin_line);
+  EXPECT_EQ(a.max_form_error_m, c.max_form_error_m);
+  ASSERT_EQ(a.worst_lines.size(), c.worst_lines.size());
+  for (std::size_t k = 0; k < a.worst_lines.size(); ++k)
+    EXPECT_EQ(a.worst_lines[k].line, c.worst_lines[k].line);
+}
+
 TEST(RobotAlongPath, DownMillingLeavesMaterialUpMillingTakesIt) {
   // The mean force pushes the tool away from the wall in down milling (the
   // wall at −y of the milling frame) and pulls it in in up milling.

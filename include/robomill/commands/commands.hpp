@@ -19,6 +19,10 @@
 #include "robomill/io/job.hpp"
 #include "robomill/robot/robot_model.hpp"
 
+namespace robomill::analysis {
+struct BlockSharing;  // analysis/program_run.hpp
+}
+
 namespace robomill::commands {
 
 /// `threads`: up to that many threads, 0 for all cores.
@@ -40,10 +44,14 @@ CommandResult compute_surface(const io::Job& job, int threads);
 /// program) also the program written back with better spindle speeds, ψ,
 /// feeds and compensation (program_optimized.<ext>) and the whole analysis
 /// re-run on it (summary.json's `optimization`); its scratch files go next
-/// to `samples_file`, else into the system's temporary folder.
+/// to `samples_file`, else into the system's temporary folder. With
+/// `sharing` (process 0 of several: the command line's MPI ranks) the
+/// robot's blocks are shared out (analysis::BlockSharing); the result is the
+/// same.
 CommandResult compute_toolpath(const io::Job& job, int threads,
                                const std::filesystem::path& samples_file = {},
-                               const Progress& progress = {}, bool optimize = false);
+                               const Progress& progress = {}, bool optimize = false,
+                               const analysis::BlockSharing* sharing = nullptr);
 
 /// `robomill listen`: the chatter verdict of the job's recordings (issue 22,
 /// docs/monitoring.md); with a stability: section also the lobes (sld) and

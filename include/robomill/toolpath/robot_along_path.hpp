@@ -216,6 +216,20 @@ struct RobotPathSummary {
   std::vector<std::string> notes;
 };
 
+/// The shortcut's cost and check over a block of samples: limits solved
+/// exactly, interpolated samples also solved to check, and the largest
+/// relative error among those.
+struct ShortcutChecks {
+  std::size_t exact = 0, checked = 0;
+  double max_error = 0.0;
+};
+
+/// A RobotSample as `packed_size(dof)` doubles, to send between processes
+/// (analysis::BlockSharing); unpack gives it back bit for bit.
+std::size_t packed_size(int dof);
+void pack(const RobotSample& sample, int dof, double* out);
+RobotSample unpack(const double* in, int dof);
+
 /// The analysis, fed block by block in program order. Holds the IK seed
 /// between blocks; not thread-safe itself (it runs its blocks in parallel).
 class RobotAlongPath {
@@ -226,8 +240,21 @@ class RobotAlongPath {
                  const cutting::CuttingLaw& law, PathStabilitySettings stability,
                  RobotPathSettings settings);
 
-  /// The robot at every sample of a block (out.size() == samples.size()).
+  /// The robot at every sample of a block (out.size() == samples.size()):
+  /// postures, compute and record in turn.
   void evaluate(std::span<const PathSample> samples, std::span<RobotSample> out);
+
+  /// evaluate()'s steps, for a block whose results are computed elsewhere
+  /// (analysis::BlockSharing). The postures, in order (each inverse
+  /// kinematics starts from the posture before; every block must pass here,
+  /// in program order).
+  void postures(std::span<const PathSample> samples, std::span<RobotSample> out);
+  /// At those postures: deflection, 004's offset, the stable depths (in
+  /// parallel; the shortcut within the block).
+  ShortcutChecks compute(std::span<const PathSample> samples, std::span<RobotSample> out) const;
+  /// Adds a block's results to the totals, in program order.
+  void record(std::span<const PathSample> samples, std::span<const RobotSample> out,
+              const ShortcutChecks& checks);
 
   /// The totals so far, with the worst lines' advice computed.
   RobotPathSummary finish();
@@ -287,7 +314,7 @@ class RobotAlongPath {
   std::shared_ptr<const planning::ForceHarmonics> force_series(const tool::Tool& tool,
                                                                const PathSample& sample) const;
   void steady_offset(const PathSample& sample, RobotSample& out) const;
-  void limits(std::span<const PathSample> samples, std::span<RobotSample> out);
+  ShortcutChecks limits(std::span<const PathSample> samples, std::span<RobotSample> out) const;
   void tally(const PathSample& sample, const RobotSample& out);
 };
 

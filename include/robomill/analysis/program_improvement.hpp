@@ -1,0 +1,146 @@
+#pragma once
+// `robomill toolpath --optimize` (issue 19 item 5, docs/toolpath.md "A better
+// program"): from the first run of a program with the robot on it, within
+// the job's limits,
+//
+//  - the redundancy angle ψ: one for the whole program, or one per line
+//    turning between lines within a joint-speed bound (robot_path.
+//    redundancy_search, per_line, joint_speed_max), for the largest smallest
+//    stability margin (toolpath/program_optimization.hpp);
+//  - the spindle speed of each S word's stretch, in stability.speeds, for
+//    the postures that stretch runs at;
+//  - the feed of every line under robot_path.feed_limits' caps on force,
+//    torque, deflection and joint speed (toolpath/feed_schedule.hpp);
+//  - optionally a deflection compensation (robot_path.compensation): every
+//    straight line moved against its samples' predicted form error
+//    (toolpath/deflection_compensation.hpp);
+//
+// the program written back in its own dialect with a comment on every
+// change, read back through its own reader and checked move by move, and
+// analysed again on a fresh stock, so that every "after" is measured on the
+// written program. SI units.
+
+#include <cstddef>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "robomill/io/job.hpp"
+#include "robomill/io/robot_path.hpp"
+#include "robomill/toolpath/deflection_compensation.hpp"
+#include "robomill/toolpath/feed_schedule.hpp"
+#include "robomill/toolpath/program_analysis.hpp"
+#include "robomill/toolpath/program_optimization.hpp"
+#include "robomill/toolpath/robot_along_path.hpp"
+
+namespace robomill::analysis {
+
+/// What the first run keeps for the improvement: the samples whose limits
+/// were solved or that are at risk (the solved ones bracket every
+/// interpolated run; at most kMaxRecorded), and for every sample whether it
+/// was at risk (1), safe (0) or had no limit (2).
+struct FirstRunRecord {
+  static constexpr std::size_t kMaxRecorded = 50000;
+  std::vector<toolpath::RecordedSample> recorded;
+  std::vector<unsigned char> at_risk;
+  void add(const toolpath::PathSample& sample, const toolpath::RobotSample& robot);
+};
+
+/// Median, 90th percentile and largest of a sample (0 for none).
+struct Percentiles {
+  double median = 0.0, p90 = 0.0, max = 0.0;
+};
+Percentiles percentiles(std::vector<double> values);
+
+/// How ψ was chosen.
+struct RedundancyDecision {
+  enum class Kind {
+    none,            ///< no robot_path.redundancy_search: the job's ψ is kept
+    program_frames,  ///< the program's frames fix ψ (a KRL program): no search
+    per_line,        ///< ψ(s), one angle per line: `schedule`
+    single,          ///< one angle for the program: `choice`
+  };
+  Kind kind = Kind::none;
+  double joint_speed_max_rad_s = 0.0;  ///< per_line: the bound on every turn
+  std::optional<toolpath::RedundancySchedule> schedule;
+  std::optional<toolpath::RedundancyChoice> choice;
+};
+
+/// The spindle speed of each S word's stretch.
+struct SpindleDecision {
+  std::vector<toolpath::SpindleRegion> regions;
+  std::vector<toolpath::SpindleChoice> choices;  ///< SpindleChoice::region indexes `regions`
+  /// Changed speeds written into the program (a KRL program has no spindle
+  /// word: its choices are reported, not written).
+  bool written = false;
+  bool unwritable = false;  ///< some speed changed but the dialect cannot say it
+};
+
+/// The feeds under the job's caps.
+struct FeedDecision {
+  toolpath::FeedLimits limits;
+  toolpath::FeedSchedule schedule;
+  std::size_t lines_changed = 0, lines_slowed = 0;
+};
+
+/// The written program analysed again (before the compensation).
+struct AfterRun {
+  toolpath::RobotPathSummary robot;
+  double max_force_n = 0.0, max_torque_nm = 0.0, max_deflection_m = 0.0;
+  double cycle_time_s = 0.0;
+  double redundancy_rad = 0.0;         ///< the single ψ (a schedule's: redundancy_schedule)
+  double max_joint_speed_rad_s = 0.0;  ///< between neighbouring samples of a move
+  /// Sample by sample against the first run (the same samples: the re-run
+  /// keeps the first run's steps per move).
+  std::size_t compared = 0, newly_at_risk = 0, relieved = 0;
+  int first_newly_at_risk_line = 0;
+};
+
+/// The deflection compensation, measured on the compensated program.
+struct CompensationOutcome {
+  toolpath::CompensationSettings settings;
+  std::vector<toolpath::LineCorrection> written;     ///< the lines moved
+  std::vector<std::pair<int, std::string>> skipped;  ///< line, reason (ascending lines)
+  std::size_t points_added = 0;
+  double max_offset_m = 0.0;
+  /// |e' − (p' − p)·w'| at every wall sample of the compensated program, and
+  /// |e| at the walls before it.
+  Percentiles residual_m, before_m;
+  std::size_t wall_samples = 0;
+  double max_form_error_before_m = 0.0;
+  toolpath::RobotPathSummary compensated;
+  double compensated_max_force_n = 0.0, compensated_cycle_time_s = 0.0;
+};
+
+struct ProgramImprovement {
+  RedundancyDecision redundancy;
+  SpindleDecision spindles;
+  std::optional<FeedDecision> feeds;
+  /// False: nothing in the limits improves the program; it is kept and not
+  /// analysed again (`after` empty).
+  bool changed = false;
+  bool redundancy_changed = false;  ///< ψ (single or schedule) differs from the job's
+  std::string name;                 ///< program_optimized.<ext>
+  /// The written program; empty when only ψ changed (the text is the same).
+  std::optional<std::string> text;
+  std::optional<AfterRun> after;
+  std::optional<CompensationOutcome> compensation;
+  double cycle_time_before_s = 0.0;
+  std::size_t samples_before = 0, chatter_before = 0;
+};
+
+/// The improvement of a program whose first run (`first_pass`, the robot's
+/// analysis `before`, `record`) is done; scratch files go to `scratch_dir`.
+/// Throws InputError for a compensation asked of a KRL program, Error when a
+/// written program does not read back as chosen.
+ProgramImprovement improve_program(const io::Job& job, const toolpath::Program& program,
+                                   const toolpath::Tooling& tooling,
+                                   const io::RobotPathSetup& setup,
+                                   const toolpath::RobotAlongPath& before,
+                                   const FirstRunRecord& record,
+                                   const toolpath::ProgramAnalysis& first_pass,
+                                   const std::filesystem::path& scratch_dir, int threads);
+
+}  // namespace robomill::analysis

@@ -1,0 +1,506 @@
+// `robomill toolpath --optimize` (analysis/program_improvement.hpp): ψ, the
+// spindle speeds, the feeds and the compensation chosen from the first run,
+// the program written back, read back and analysed again.
+
+#include "robomill/analysis/program_improvement.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <memory>
+#include <numbers>
+
+#include "robomill/analysis/program_run.hpp"
+#include "robomill/core/error.hpp"
+#include "robomill/io/program_readers.hpp"
+#include "robomill/io/program_writer.hpp"
+
+namespace robomill::analysis {
+namespace {
+
+constexpr double kDegPerRad = 180.0 / std::numbers::pi;
+constexpr double kRpmPerRadS = 60.0 / (2.0 * std::numbers::pi);
+
+std::string program_extension(const io::ToolpathSettings& settings) {
+  const std::string extension = settings.file.extension().string();
+  return extension.empty() ? ".nc" : extension;
+}
+
+// Writes `text` to a scratch file and reads it back with the program's own
+// reader (the written program must parse as it will on the cell).
+toolpath::Program read_back(const io::ToolpathSettings& settings, const std::string& text,
+                            const std::filesystem::path& scratch_file, std::size_t expected_moves) {
+  {
+    std::ofstream file(scratch_file, std::ios::binary | std::ios::trunc);
+    file << text;
+    if (!file)
+      throw Error("cannot write " + scratch_file.string());
+  }
+  io::ToolpathSettings again = settings;
+  again.file = scratch_file;
+  toolpath::Program program;
+  try {
+    program = io::read_program(again);
+  } catch (...) {
+    std::error_code ignored;
+    std::filesystem::remove(scratch_file, ignored);
+    throw;
+  }
+  std::error_code ignored;
+  std::filesystem::remove(scratch_file, ignored);
+  if (program.moves.size() != expected_moves)
+    throw Error(fmt::format("the written program reads back as {} moves, the original as {}",
+                            program.moves.size(), expected_moves));
+  return program;
+}
+
+// The feed edits of a schedule: each changed line rescaled with a comment
+// naming the binding cap and the loads before and after, and the restores
+// (io::with_feed_restores).
+std::vector<io::FeedEdit> feed_edits(const toolpath::Program& program,
+                                     const toolpath::FeedSchedule& schedule,
+                                     const toolpath::FeedLimits& limits) {
+  std::vector<io::FeedEdit> changed;
+  for (const toolpath::LineFeed& line : schedule.lines) {
+    if (!line.changed())
+      continue;
+    const toolpath::MoveLoads& b = line.before;
+    const toolpath::MoveLoads& a = line.after;
+    std::string loads;
+    if (limits.force_max_n > 0.0)
+      loads += fmt::format(", peak force {:.0f} -> {:.0f} N", b.force_peak_n, a.force_peak_n);
+    if (limits.torque_max_nm > 0.0)
+      loads +=
+          fmt::format(", peak torque {:.2f} -> {:.2f} N*m", b.torque_peak_nm, a.torque_peak_nm);
+    if (limits.deflection_max_m > 0.0)
+      loads += fmt::format(", deflection {:.0f} -> {:.0f} um", b.deflection_m * 1e6,
+                           a.deflection_m * 1e6);
+    if (limits.joint_speed_max_rad_s > 0.0)
+      loads += fmt::format(", fastest joint {:.1f} -> {:.1f} deg/s",
+                           b.joint_speed_rad_s * kDegPerRad, a.joint_speed_rad_s * kDegPerRad);
+    changed.push_back(
+        {line.line, line.scale, line.programmed_m_s,
+         fmt::format("robomill: feed {:.0f} -> {:.0f} mm/min ({}){}", line.programmed_m_s * 6e4,
+                     line.programmed_m_s * line.scale * 6e4, line.binding, loads)});
+  }
+  return io::with_feed_restores(program, std::move(changed));
+}
+
+// The deflection compensation (toolpath/deflection_compensation.hpp) of the
+// program the improvement has written: the corrections collected on its
+// analysis (the after-run), written in the program's own frame and units,
+// read back and checked move by move against the corrected path, then
+// analysed once more for the residual against the path the CAM wrote.
+CompensationOutcome compensate_program(const io::Job& job, const io::RobotPathSetup& setup,
+                                       const toolpath::Tooling& tooling,
+                                       const toolpath::RobotPathSettings& robot_settings,
+                                       const toolpath::ProgramAnalysisSettings& analysis_settings,
+                                       const toolpath::PathCorrections& collected,
+                                       const toolpath::Program& program, std::string& text,
+                                       const std::filesystem::path& scratch_file) {
+  const io::ToolpathSettings& settings = *job.toolpath;
+  CompensationOutcome outcome;
+  const std::vector<toolpath::LineCorrection> all = collected.corrections(program);
+  // Workpiece frame → the program's own (the readers applied
+  // toolpath.origin/orientation): offsets turn back by its rotation.
+  const Eigen::Matrix3d to_program = settings.program_to_workpiece.linear().transpose();
+  std::vector<io::PointEdit> point_edits;
+  for (const toolpath::LineCorrection& c : all) {
+    io::PointEdit edit{c.line, to_program * c.offset_m, {}, ""};
+    double largest = c.offset_m.norm();
+    for (const toolpath::CorrectionPoint& p : c.points) {
+      edit.points.push_back({p.u, to_program * p.offset_m});
+      largest = std::max(largest, p.offset_m.norm());
+    }
+    edit.comment = fmt::format("robomill: compensated, up to {:.1f} um against the predicted error",
+                               largest * 1e6);
+    point_edits.push_back(std::move(edit));
+  }
+  const io::PointEditResult edited = io::write_point_edits(text, settings.format, point_edits);
+  std::map<int, std::string> skipped;
+  for (const auto& s : edited.skipped)
+    skipped[s.line] = s.reason;
+  outcome.skipped.assign(skipped.begin(), skipped.end());
+  for (const toolpath::LineCorrection& c : all) {
+    if (skipped.count(c.line))
+      continue;
+    outcome.written.push_back(c);
+    outcome.points_added += c.points.size();
+    outcome.max_offset_m = std::max(outcome.max_offset_m, c.offset_m.norm());
+    for (const toolpath::CorrectionPoint& p : c.points)
+      outcome.max_offset_m = std::max(outcome.max_offset_m, p.offset_m.norm());
+  }
+  const std::vector<toolpath::LineCorrection>& written = outcome.written;
+  const std::vector<Eigen::Vector3d> expected = toolpath::corrected_ends(program, written);
+  const toolpath::Program corrected =
+      read_back(settings, edited.text, scratch_file, expected.size());
+  for (std::size_t m = 0; m < corrected.moves.size(); ++m) {
+    if ((corrected.moves[m].end_m - expected[m]).norm() > 1e-6)
+      throw Error(fmt::format(
+          "the compensated program's line {} ends at [{:.4f}, {:.4f}, {:.4f}] mm, not the "
+          "intended [{:.4f}, {:.4f}, {:.4f}] mm; nothing was written",
+          corrected.moves[m].line, corrected.moves[m].end_m.x() * 1e3,
+          corrected.moves[m].end_m.y() * 1e3, corrected.moves[m].end_m.z() * 1e3,
+          expected[m].x() * 1e3, expected[m].y() * 1e3, expected[m].z() * 1e3));
+  }
+
+  // The written program analysed: each wall sample's error against the
+  // programmed line it stands for, e' − (p' − p)·w' with p the nearest point
+  // of that line (the compensated moves of one line all stand for it).
+  std::vector<std::size_t> original(corrected.moves.size());
+  {
+    std::map<std::size_t, std::size_t> points_of;
+    for (const toolpath::LineCorrection& c : written)
+      points_of[c.move] = c.points.size();
+    std::size_t w = 0;
+    for (std::size_t m = 0; m < program.moves.size(); ++m) {
+      const std::size_t count = points_of.count(m) ? points_of[m] + 1 : 1;
+      for (std::size_t k = 0; k < count && w < original.size(); ++k)
+        original[w++] = m;
+    }
+  }
+  toolpath::ProgramAnalysisSettings again = analysis_settings;
+  again.move_spacing_m.clear();  // the written program has moves of its own
+  again.move_steps.clear();
+  // A redundancy schedule follows the moves a compensated line became (ψ
+  // linear along the programmed line: each part takes its stretch of it).
+  toolpath::RobotPathSettings corrected_settings = robot_settings;
+  if (!robot_settings.redundancy_by_move.empty()) {
+    std::map<std::size_t, std::vector<double>> cuts;  // 0, the points' u, 1
+    for (const toolpath::LineCorrection& c : written) {
+      std::vector<double>& u = cuts[c.move];
+      u.push_back(0.0);
+      for (const toolpath::CorrectionPoint& p : c.points)
+        u.push_back(p.u);
+      u.push_back(1.0);
+    }
+    corrected_settings.redundancy_by_move.clear();
+    for (std::size_t m = 0; m < program.moves.size(); ++m) {
+      const auto [from, to] =
+          m < robot_settings.redundancy_by_move.size()
+              ? robot_settings.redundancy_by_move[m]
+              : std::pair{robot_settings.redundancy_rad, robot_settings.redundancy_rad};
+      const auto it = cuts.find(m);
+      if (it == cuts.end()) {
+        corrected_settings.redundancy_by_move.emplace_back(from, to);
+        continue;
+      }
+      for (std::size_t k = 0; k + 1 < it->second.size(); ++k)
+        corrected_settings.redundancy_by_move.emplace_back(from + (to - from) * it->second[k],
+                                                           from + (to - from) * it->second[k + 1]);
+    }
+  }
+  toolpath::RobotAlongPath along(*setup.model, setup.structure, tooling, *job.cutting,
+                                 setup.stability, corrected_settings);
+  toolpath::DexelStock stock = job_stock(job);
+  std::vector<toolpath::RobotSample> block_out;
+  std::vector<double> residuals_m;  // |e' − (p' − p)·w'| at every wall sample
+  const toolpath::ProgramAnalysis analysis = toolpath::analyse_program(
+      corrected, tooling, *job.cutting, stock, again,
+      [&](std::span<const toolpath::PathSample> block) {
+        block_out.resize(block.size());
+        along.evaluate(block, block_out);
+        for (std::size_t i = 0; i < block.size(); ++i) {
+          const toolpath::RobotSample& r = block_out[i];
+          const toolpath::PathSample& sample = block[i];
+          if (!r.wall || !r.reachable || !sample.analysed ||
+              sample.kind == toolpath::MotionKind::rapid)
+            continue;
+          const toolpath::Move& nominal = program.moves[original[sample.move]];
+          double shift = 0.0;
+          if (nominal.kind == toolpath::MotionKind::linear) {
+            const Eigen::Vector3d d = nominal.end_m - nominal.start_m;
+            const double t =
+                d.squaredNorm() > 0.0
+                    ? std::clamp((sample.tip_m - nominal.start_m).dot(d) / d.squaredNorm(), 0.0,
+                                 1.0)
+                    : 0.0;
+            shift = (sample.tip_m - (nominal.start_m + t * d)).dot(r.wall_direction);
+          }
+          residuals_m.push_back(std::abs(r.form_error_m - shift));
+        }
+      });
+  outcome.compensated = along.finish();
+  outcome.residual_m = percentiles(residuals_m);
+  outcome.wall_samples = residuals_m.size();
+  outcome.compensated_max_force_n = analysis.max_force_n;
+  outcome.compensated_cycle_time_s =
+      analysis.cutting_time_s + analysis.air_time_s + analysis.dwell_time_s;
+  text = edited.text;
+  return outcome;
+}
+
+}  // namespace
+
+void FirstRunRecord::add(const toolpath::PathSample& sample, const toolpath::RobotSample& robot) {
+  at_risk.push_back(robot.stability ? (robot.at_risk ? 1 : 0) : 2);
+  if (robot.stability && (robot.exact || robot.at_risk) && recorded.size() < kMaxRecorded)
+    recorded.push_back({sample, robot.q_rad, robot.margin});
+}
+
+Percentiles percentiles(std::vector<double> values) {
+  Percentiles p;
+  if (values.empty())
+    return p;
+  std::sort(values.begin(), values.end());
+  const auto at = [&](double q) {
+    return values[std::min(values.size() - 1, static_cast<std::size_t>(q * values.size()))];
+  };
+  p.median = at(0.5);
+  p.p90 = at(0.9);
+  p.max = values.back();
+  return p;
+}
+
+// ψ first (it moves every posture), then the speeds at those postures, the
+// feeds at both, the program written back and the whole analysis re-run on
+// it (its own reader, a fresh stock, the samples where the first run put
+// them), so that the after-numbers are measured.
+ProgramImprovement improve_program(const io::Job& job, const toolpath::Program& program,
+                                   const toolpath::Tooling& tooling,
+                                   const io::RobotPathSetup& setup,
+                                   const toolpath::RobotAlongPath& before,
+                                   const FirstRunRecord& record,
+                                   const toolpath::ProgramAnalysis& first_pass,
+                                   const std::filesystem::path& scratch_dir, int threads) {
+  const io::ToolpathSettings& settings = *job.toolpath;
+  ProgramImprovement out;
+  out.cycle_time_before_s =
+      first_pass.cutting_time_s + first_pass.air_time_s + first_pass.dwell_time_s;
+  out.samples_before = first_pass.samples;
+  out.chatter_before = before.summary().chatter;
+  if (job.robot_path && job.robot_path->compensation &&
+      settings.format == io::ToolpathSettings::Format::krl)
+    throw InputError("robot_path.compensation", job.robot_path->compensation->line,
+                     "the deflection compensation is written into G-code and APT programs; a KRL "
+                     "program's points live in its .dat and FOR loops run them several times");
+  // The searches re-pose the recorded samples at the chosen ψ: a copy.
+  std::vector<toolpath::RecordedSample> recorded = record.recorded;
+  toolpath::RobotPathSettings after_settings = setup.settings;
+  const bool oriented = std::any_of(program.moves.begin(), program.moves.end(),
+                                    [](const toolpath::Move& m) { return m.oriented; });
+  const bool search = job.robot_path && !job.robot_path->redundancy_search_rad.empty();
+  RedundancyDecision& psi = out.redundancy;
+  if (search && oriented) {
+    psi.kind = RedundancyDecision::Kind::program_frames;
+  } else if (search && job.robot_path->redundancy_per_line) {
+    // ψ(s): one angle per program line, turning between lines within the
+    // joint-speed bound.
+    psi.kind = RedundancyDecision::Kind::per_line;
+    psi.joint_speed_max_rad_s =
+        job.robot_path->redundancy_joint_speed_rad_s > 0.0
+            ? job.robot_path->redundancy_joint_speed_rad_s
+        : job.robot_path->feed_limits && job.robot_path->feed_limits->joint_speed_max_rad_s > 0.0
+            ? job.robot_path->feed_limits->joint_speed_max_rad_s
+            : 10.0 / kDegPerRad;
+    psi.schedule = toolpath::schedule_redundancy(before, program, recorded,
+                                                 job.robot_path->redundancy_search_rad,
+                                                 psi.joint_speed_max_rad_s, 0.02, threads);
+    if (psi.schedule->changed())
+      after_settings.redundancy_by_move = psi.schedule->by_move(program.moves.size());
+  } else if (search) {
+    psi.kind = RedundancyDecision::Kind::single;
+    psi.choice = toolpath::choose_redundancy_angle(
+        before, recorded, job.robot_path->redundancy_search_rad, 0.02, threads);
+    after_settings.redundancy_rad = psi.choice->chosen_rad;
+  }
+  out.redundancy_changed = after_settings.redundancy_rad != setup.settings.redundancy_rad ||
+                           !after_settings.redundancy_by_move.empty();
+
+  SpindleDecision& spindles = out.spindles;
+  spindles.regions = toolpath::spindle_regions(program);
+  if (!setup.stability.advice_speeds_rad_s.empty())
+    spindles.choices = toolpath::choose_spindle_speeds(
+        before, spindles.regions, recorded, setup.stability.advice_speeds_rad_s, 0.02, threads);
+  std::vector<io::SpindleEdit> edits;
+  for (const toolpath::SpindleChoice& c : spindles.choices) {
+    if (!c.changed())
+      continue;
+    const toolpath::SpindleRegion& region = spindles.regions[c.region];
+    const double from_rpm = std::abs(c.programmed_rad_s) * kRpmPerRadS;
+    const double to_rpm = std::abs(c.chosen_rad_s) * kRpmPerRadS;
+    edits.push_back({region.first_line, c.chosen_rad_s,
+                     fmt::format("robomill: S{:.0f} -> S{:.0f} for lines {}-{}, min stability "
+                                 "margin {:.2f} -> {:.2f}",
+                                 from_rpm, to_rpm, region.first_line, region.last_line,
+                                 c.min_margin_before, c.min_margin_after)});
+    edits.push_back({region.last_line + 1, c.programmed_rad_s,
+                     fmt::format("robomill: back to the programmed S{:.0f}", from_rpm)});
+  }
+  if (out.redundancy_changed && !edits.empty())
+    edits.front().comment +=
+        after_settings.redundancy_by_move.empty()
+            ? fmt::format("; run with the redundancy angle {:.0f} deg",
+                          after_settings.redundancy_rad * kDegPerRad)
+            : std::string("; run with the redundancy angles of redundancy_schedule.csv");
+
+  std::ifstream in(settings.file, std::ios::binary);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  // KRL programs carry no spindle speed (the cell's PLC sets it): the
+  // choices are reported, not written.
+  const bool krl = settings.format == io::ToolpathSettings::Format::krl;
+  spindles.unwritable = !edits.empty() && krl;
+  spindles.written = !edits.empty() && !krl;
+  if (!spindles.written)
+    edits.clear();
+  out.name = "program_optimized" + program_extension(settings);
+  const std::filesystem::path scratch_file =
+      (scratch_dir.empty() ? std::filesystem::temp_directory_path() : scratch_dir) /
+      (".robomill-" + out.name);
+  toolpath::ProgramAnalysisSettings analysis_settings =
+      program_analysis_settings(settings, threads, out.name);
+  for (const toolpath::MoveTotals& move : first_pass.moves) {
+    analysis_settings.move_spacing_m.push_back(move.spacing_m);
+    analysis_settings.move_steps.push_back(move.steps);
+  }
+
+  // The feeds, on the program as it will run with the chosen speeds (the
+  // spindle edits written and read back) at the chosen ψ.
+  std::vector<io::FeedEdit> feeds;
+  std::vector<double> feed_scale(program.moves.size(), 1.0);
+  toolpath::Program with_speeds =
+      spindles.written ? read_back(settings, io::write_spindle_edits(text, settings.format, edits),
+                                   scratch_file, program.moves.size())
+                       : program;
+  // Its moves keep the original program's line numbers (the inserted S
+  // blocks shift the written text's), which the feed edits and errors name.
+  // Feeds are set per statement: a move on a line that continues an APT
+  // record (a '$' continuation, a GOTO's further points) belongs to the
+  // record's first line, where a FEDRAT can go.
+  const std::vector<int> starts = io::statement_starts(text, settings.format);
+  for (std::size_t m = 0; m < with_speeds.moves.size(); ++m) {
+    const int line = program.moves[m].line;
+    with_speeds.moves[m].line =
+        line > 0 && static_cast<std::size_t>(line) < starts.size() ? starts[line] : line;
+  }
+  if (job.robot_path && job.robot_path->feed_limits) {
+    FeedDecision& decision = out.feeds.emplace();
+    decision.limits = io::feed_limits(*job.robot_path->feed_limits);
+    const toolpath::DexelStock stock = job_stock(job);
+    toolpath::PathStabilitySettings no_limits = setup.stability;
+    no_limits.enabled = false;  // the feed does not move the stable depth
+    const auto make_robot = [&] {
+      return std::make_unique<toolpath::RobotAlongPath>(*setup.model, setup.structure, tooling,
+                                                        *job.cutting, no_limits, after_settings);
+    };
+    decision.schedule =
+        toolpath::schedule_feeds(with_speeds, decision.limits, [&](const std::vector<double>& s) {
+          return toolpath::measure_move_loads(with_speeds, s, tooling, *job.cutting, stock,
+                                              analysis_settings, make_robot);
+        });
+    feeds = feed_edits(with_speeds, decision.schedule, decision.limits);
+    for (const toolpath::LineFeed& line : decision.schedule.lines) {
+      for (std::size_t m : line.moves)
+        feed_scale[m] = line.scale;
+      if (!line.changed())
+        continue;
+      ++decision.lines_changed;
+      decision.lines_slowed += line.scale < 1.0 ? 1 : 0;
+    }
+  }
+
+  const bool compensate = job.robot_path && job.robot_path->compensation;
+  if (edits.empty() && feeds.empty() && !out.redundancy_changed && !compensate)
+    return out;  // nothing to change: the program is kept
+  out.changed = true;
+
+  // The program written back in its dialect, read back by its reader (every
+  // move's feed and speed checked against the schedule), and analysed again.
+  bool written_changes = !edits.empty() || !feeds.empty();
+  std::string written =
+      written_changes ? io::write_program_edits(text, settings.format, edits, feeds) : text;
+  toolpath::Program rewritten = read_back(settings, written, scratch_file, program.moves.size());
+  for (std::size_t m = 0; m < rewritten.moves.size(); ++m) {
+    const toolpath::Move& got = rewritten.moves[m];
+    const toolpath::Move& want = with_speeds.moves[m];
+    const double feed_m_s = want.feed_m_s * feed_scale[m];
+    if (std::abs(got.feed_m_s - feed_m_s) > 1e-5 * feed_m_s + 1e-12 ||
+        got.spindle_rad_s != want.spindle_rad_s)
+      throw Error(fmt::format(
+          "the written program's line {} (original line {}) reads back at {:.6g} mm/min and "
+          "{:.6g} rpm, not the chosen {:.6g} mm/min and {:.6g} rpm; nothing was written",
+          got.line, want.line, got.feed_m_s * 6e4, got.spindle_rad_s * kRpmPerRadS, feed_m_s * 6e4,
+          want.spindle_rad_s * kRpmPerRadS));
+  }
+
+  toolpath::DexelStock stock = job_stock(job);
+  toolpath::RobotAlongPath after(*setup.model, setup.structure, tooling, *job.cutting,
+                                 setup.stability, after_settings);
+  AfterRun& rerun = out.after.emplace();
+  // The fastest joint along the re-run: between neighbouring samples of a move.
+  std::size_t last_move = SIZE_MAX;
+  double last_t_s = 0.0;
+  toolpath::RobotSample::Joints last_q;
+  std::optional<toolpath::PathCorrections> corrections;
+  std::vector<double> wall_errors_m;  // |form error| at the wall samples before compensation
+  toolpath::CompensationSettings compensation;
+  if (compensate) {
+    compensation.floor = job.robot_path->compensation->floor;
+    compensation.min_offset_m = job.robot_path->compensation->min_offset_m;
+    compensation.tolerance_m = job.robot_path->compensation->tolerance_m;
+    corrections.emplace(rewritten.moves.size(), compensation);
+  }
+  std::vector<toolpath::RobotSample> block_out;
+  std::size_t index = 0;
+  const toolpath::ProgramAnalysis analysis = toolpath::analyse_program(
+      rewritten, tooling, *job.cutting, stock, analysis_settings,
+      [&](std::span<const toolpath::PathSample> block) {
+        block_out.resize(block.size());
+        after.evaluate(block, block_out);
+        for (std::size_t i = 0; i < block.size(); ++i, ++index) {
+          const toolpath::RobotSample& r = block_out[i];
+          if (r.reachable && block[i].kind != toolpath::MotionKind::rapid) {
+            rerun.max_deflection_m = std::max(rerun.max_deflection_m, r.deflection_m.norm());
+            if (block[i].move == last_move && block[i].t_s > last_t_s)
+              rerun.max_joint_speed_rad_s =
+                  std::max(rerun.max_joint_speed_rad_s,
+                           (r.q_rad - last_q).cwiseAbs().maxCoeff() / (block[i].t_s - last_t_s));
+            last_move = block[i].move;
+            last_t_s = block[i].t_s;
+            last_q = r.q_rad;
+          } else {
+            last_move = SIZE_MAX;
+          }
+          if (corrections) {
+            corrections->add(block[i], r);
+            if (r.wall && r.reachable && block[i].analysed &&
+                block[i].kind != toolpath::MotionKind::rapid)
+              wall_errors_m.push_back(std::abs(r.form_error_m));
+          }
+          const unsigned char was = index < record.at_risk.size() ? record.at_risk[index] : 2;
+          if (!r.stability || was == 2)
+            continue;
+          if (r.at_risk && was == 0) {
+            ++rerun.newly_at_risk;
+            if (rerun.first_newly_at_risk_line == 0)
+              rerun.first_newly_at_risk_line = block[i].line;
+          }
+          rerun.relieved += !r.at_risk && was == 1 ? 1 : 0;
+        }
+      });
+  rerun.robot = after.finish();
+  rerun.compared = index;
+  rerun.max_force_n = analysis.max_force_n;
+  rerun.max_torque_nm = analysis.max_torque_nm;
+  rerun.cycle_time_s = analysis.cutting_time_s + analysis.air_time_s + analysis.dwell_time_s;
+  rerun.redundancy_rad = after_settings.redundancy_rad;
+  if (corrections) {
+    CompensationOutcome& c = out.compensation.emplace(
+        compensate_program(job, setup, tooling, after_settings, analysis_settings, *corrections,
+                           rewritten, written, scratch_file));
+    c.settings = compensation;
+    c.before_m = percentiles(wall_errors_m);
+    c.max_form_error_before_m = rerun.robot.max_form_error_m;
+    written_changes = written_changes || !c.written.empty();
+  }
+  if (written_changes)
+    out.text = std::move(written);  // else only ψ changed: the program itself is the same
+  return out;
+}
+
+}  // namespace robomill::analysis

@@ -1,0 +1,224 @@
+// `robomill toolpath` of a job (analysis/program_run.hpp): the program read,
+// run over the stock, the robot along it, and on request improved.
+
+#include "robomill/analysis/program_run.hpp"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <utility>
+
+#include "robomill/core/error.hpp"
+#include "robomill/io/csv.hpp"
+#include "robomill/io/program_readers.hpp"
+
+namespace robomill::analysis {
+
+// The stock the job describes: a full box, or the height map an earlier run
+// left (stock.csv: x_mm, y_mm, z_mm with x fastest).
+toolpath::DexelStock job_stock(const io::Job& job) {
+  const io::StockSettings& s = *job.stock;
+  const toolpath::StockBox box{s.min_m, s.max_m};
+  try {
+    if (s.height_map.empty())
+      return toolpath::DexelStock(box, s.resolution_m);
+    const io::CsvTable map = io::read_csv(s.height_map);
+    const int x = map.find("x_mm"), y = map.find("y_mm"), z = map.find("z_mm");
+    if (x < 0 || y < 0 || z < 0 || map.rows() < 1)
+      throw InputError("stock.height_map", s.line,
+                       fmt::format("'{}' needs the columns x_mm, y_mm, z_mm (stock.csv of "
+                                   "robomill toolpath)",
+                                   s.height_map.string()));
+    std::size_t nx = 1;
+    while (nx < map.rows() && map.at(nx, y) == map.at(0, y))
+      ++nx;
+    if (map.rows() % nx != 0)
+      throw InputError(
+          "stock.height_map", s.line,
+          fmt::format("'{}' is not a regular grid (x fastest, then y)", s.height_map.string()));
+    std::vector<double> heights(map.rows());
+    for (std::size_t r = 0; r < map.rows(); ++r)
+      heights[r] = map.at(r, z) * 1e-3;
+    return toolpath::DexelStock::from_height_map(box, s.resolution_m, static_cast<int>(nx),
+                                                 static_cast<int>(map.rows() / nx), heights);
+  } catch (const std::invalid_argument& error) {
+    throw InputError("stock", s.line, error.what());
+  }
+}
+
+toolpath::Tooling job_tooling(const io::Job& job, const toolpath::Program& program) {
+  toolpath::Tooling tooling;
+  const io::ToolpathSettings& settings = *job.toolpath;
+  if (settings.tools.empty())
+    tooling.emplace(0, tool::Tool(*job.tool));
+  for (const auto& [number, spec] : settings.tools)
+    tooling.emplace(number, tool::Tool(spec));
+  for (const toolpath::ToolCall& call : program.tool_calls) {
+    auto it = tooling.find(call.tool);
+    if (it == tooling.end())
+      it = tooling.find(0);
+    if (it == tooling.end())
+      continue;
+    const tool::Tool& cutter = it->second;
+    const std::string where = settings.tools.empty() ? std::string("the job's tool")
+                                                     : fmt::format("toolpath.tools.T{}", call.tool);
+    if (call.diameter_m && std::abs(*call.diameter_m - cutter.diameter_m()) > 1e-6)
+      throw InputError(
+          settings.file.filename().string(), call.line,
+          fmt::format("the program's cutter T{} is {:.4g} mm in diameter, {} is "
+                      "{:.4g} mm; describe the program's cutter",
+                      call.tool, *call.diameter_m * 1e3, where, cutter.diameter_m() * 1e3));
+    if (call.corner_radius_m) {
+      const bool ball = cutter.type() == tool::ToolType::ball;
+      const double job_corner = ball ? cutter.radius_m() : 0.0;
+      if (std::abs(*call.corner_radius_m - job_corner) > 1e-6)
+        throw InputError(settings.file.filename().string(), call.line,
+                         fmt::format("the program's cutter T{} has a corner radius of {:.4g} mm, "
+                                     "{} is a {} end mill (corner radius {:.4g} mm); robomill "
+                                     "models flat (0) and ball (R) ends",
+                                     call.tool, *call.corner_radius_m * 1e3, where,
+                                     ball ? "ball" : "flat", job_corner * 1e3));
+    }
+  }
+  return tooling;
+}
+
+toolpath::ProgramAnalysisSettings program_analysis_settings(const io::ToolpathSettings& settings,
+                                                            int threads, std::string source_name) {
+  toolpath::ProgramAnalysisSettings analysis;
+  analysis.sample_spacing_m = settings.spacing_m;
+  analysis.rapid_speed_m_s = settings.rapid_speed_m_s;
+  analysis.default_spindle_rad_s = settings.spindle_rad_s;
+  analysis.force_steps_per_tooth = settings.force_steps_per_tooth;
+  analysis.threads = threads;
+  analysis.source_name = std::move(source_name);
+  return analysis;
+}
+
+ProgramRun run_program(const io::Job& job, const ProgramRunOptions& options) {
+  io::require(job, {io::Section::cutting});
+  if (!job.toolpath)
+    throw InputError("toolpath", 0, "required section missing: the program (toolpath.file)");
+  if (!job.stock)
+    throw InputError("stock", 0, "required section missing: the stock box (stock.box: {min, max})");
+  const auto start = std::chrono::steady_clock::now();
+  const io::ToolpathSettings& settings = *job.toolpath;
+  ProgramRun run;
+  run.program = io::read_program(settings);
+  run.tooling = std::make_unique<toolpath::Tooling>(job_tooling(job, run.program));
+  toolpath::DexelStock stock = job_stock(job);
+  const toolpath::ProgramAnalysisSettings analysis_settings =
+      program_analysis_settings(settings, options.threads, settings.file.filename().string());
+
+  // The robot along the program, when the job puts the part in a robot cell.
+  run.robot_setup = io::robot_path_setup(job, options.threads);
+  const io::RobotPathSetup* setup = run.robot_setup ? &*run.robot_setup : nullptr;
+  if (setup)
+    run.robot =
+        std::make_unique<toolpath::RobotAlongPath>(*setup->model, setup->structure, *run.tooling,
+                                                   *job.cutting, setup->stability, setup->settings);
+  if (options.optimize && !setup)
+    throw InputError("toolpath", settings.line,
+                     "--optimize needs the robot on the program: a robot: section and "
+                     "workpiece.pose");
+  if (options.optimize && setup->stability.advice_speeds_rad_s.empty() &&
+      !(job.robot_path && job.robot_path->feed_limits))
+    throw InputError("stability.speeds", 0,
+                     "--optimize needs the spindle range it may choose from (stability.speeds: "
+                     "{from, to, count}) or the feed's caps (robot_path.feed_limits)");
+
+  if (options.on_start)
+    options.on_start(run);
+
+  // Several processes: each computes its blocks in full and every block's
+  // postures; process 0 gathers the rest and alone goes on.
+  const BlockSharing* sharing =
+      options.sharing && options.sharing->processes > 1 ? options.sharing : nullptr;
+  const bool serving = sharing && sharing->process != 0;
+  FirstRunRecord record;
+  std::vector<toolpath::RobotSample> robot_block;
+  std::size_t block = 0;
+  toolpath::RobotAlongPath* robot = run.robot.get();
+  const toolpath::SampleSink sink = [&](std::span<const toolpath::PathSample> samples) {
+    if (robot) {
+      robot_block.resize(samples.size());
+      if (!sharing) {
+        robot->evaluate(samples, robot_block);
+      } else {
+        robot->postures(samples, robot_block);
+        toolpath::ShortcutChecks checks;
+        if (block % static_cast<std::size_t>(sharing->processes) ==
+            static_cast<std::size_t>(sharing->process)) {
+          checks = robot->compute(samples, robot_block);
+          if (serving)
+            sharing->send(block, robot_block, checks);
+        } else if (!serving) {
+          sharing->receive(block, robot_block, checks);
+        }
+        if (!serving)
+          robot->record(samples, robot_block, checks);
+      }
+    }
+    ++block;
+    if (serving)
+      return;
+    for (std::size_t i = 0; i < samples.size(); ++i) {
+      const toolpath::PathSample& sample = samples[i];
+      if (options.optimize && robot)
+        record.add(sample, robot_block[i]);
+      if (sample.engaged_rad > run.max_engagement_rad &&
+          sample.kind != toolpath::MotionKind::rapid) {
+        run.max_engagement_rad = sample.engaged_rad;
+        run.max_engagement_line = sample.line;
+      }
+    }
+    if (options.on_samples)
+      options.on_samples(samples, robot ? std::span<const toolpath::RobotSample>(robot_block)
+                                        : std::span<const toolpath::RobotSample>());
+  };
+  run.analysis = toolpath::analyse_program(run.program, *run.tooling, *job.cutting, stock,
+                                           analysis_settings, sink, [&](double fraction) {
+                                             if (options.progress)
+                                               options.progress(fraction);
+                                           });
+  if (serving)
+    return run;
+  if (run.analysis.engaged_samples == 0) {
+    throw InputError("toolpath.origin", settings.line,
+                     fmt::format("no move of '{}' touches the stock: check toolpath.origin "
+                                 "(where the program's zero sits in the workpiece frame) against "
+                                 "stock.box",
+                                 settings.file_text));
+  }
+  run.elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  run.stock.emplace(std::move(stock));
+  if (!robot)
+    return run;
+
+  const toolpath::RobotPathSummary& r = run.robot_summary.emplace(robot->finish());
+  if (r.samples > 0 && r.unreachable == r.samples) {
+    const Eigen::Vector3d table = job.workpiece->cell.table_origin_m * 1e3;
+    throw InputError("workpiece.pose", job.robot_path ? job.robot_path->line : 0,
+                     fmt::format("the robot reaches no sample of the program (from line {}) "
+                                 "with the part on the table at [{:.0f}, {:.0f}, {:.0f}] mm: "
+                                 "move the table or the pose within the robot's reach",
+                                 r.first_unreachable_line, table.x(), table.y(), table.z()));
+  }
+  // A better program for a cell that cannot run this one would mislead:
+  // the improvement stops here, naming where the robot falls short.
+  if (options.optimize && r.unreachable > 0)
+    throw InputError("workpiece.pose", job.robot_path ? job.robot_path->line : 0,
+                     fmt::format("--optimize: the robot cannot reach {} samples of the program "
+                                 "(the first at program line {}); no program is written: move "
+                                 "the part within reach (workpiece.table, workpiece.pose) or "
+                                 "run without --optimize to see every line out of reach",
+                                 r.unreachable, r.first_unreachable_line));
+  if (options.optimize)
+    run.improvement = improve_program(job, run.program, *run.tooling, *setup, *robot, record,
+                                      run.analysis, options.scratch_dir, options.threads);
+  return run;
+}
+
+}  // namespace robomill::analysis
