@@ -4,7 +4,7 @@
 // thread of its own. Workers send back their chunk's packed results with the
 // next request. Results are bitwise those of the threaded run.
 
-#include "atlas_mpi.hpp"
+#include "mpi.hpp"
 
 #include <fmt/format.h>
 #include <mpi.h>

@@ -10,7 +10,7 @@
 
 #include "commands.hpp"
 #ifdef ROBOMILL_WITH_MPI
-#include "atlas_mpi.hpp"
+#include "mpi.hpp"
 #endif
 #include "robomill/core/error.hpp"
 
@@ -247,10 +247,15 @@ int run(int argc, char** argv, int rank, int ranks) {
       return robomill::app::run_atlas_mpi(atlas_options, rank, ranks);
 #endif
     }
+    if (toolpath_command->parsed() && ranks > 1) {
+#ifdef ROBOMILL_WITH_MPI
+      return robomill::app::run_toolpath_mpi(toolpath_options, rank, ranks);
+#endif
+    }
     if (ranks > 1) {
-      throw robomill::InputError(
-          "mpirun", 0,
-          "only `robomill atlas JOB` runs over MPI ranks; start this command without mpirun");
+      throw robomill::InputError("mpirun", 0,
+                                 "only `robomill atlas JOB` and `robomill toolpath JOB` run over "
+                                 "MPI ranks; start this command without mpirun");
     }
     if (validate->parsed())
       return robomill::app::run_validate(validate_options);

@@ -1,8 +1,10 @@
 #pragma once
-// `mpirun -np N robomill atlas JOB` (issue 11): the atlas's items dealt to MPI
-// ranks, the results gathered into rank 0's store. Compiled into the robomill
-// executable only when MPI was found (ROBOMILL_WITH_MPI); the command library
-// and the Python module never link MPI.
+// The commands that run over MPI ranks (`mpirun -np N robomill ...`):
+// `atlas JOB` (issue 11: items dealt to the ranks, results gathered into rank
+// 0's store) and `toolpath JOB` (issue 19: the robot's blocks along a long
+// program shared out, analysis::BlockSharing). Compiled into the robomill
+// executable only when MPI was found (ROBOMILL_WITH_MPI); the library and the
+// Python module never link MPI.
 
 #include "commands.hpp"
 
@@ -33,5 +35,12 @@ class MpiSession {
 /// same rows as `run_atlas` for any rank count) and computes too; the other
 /// ranks ask it for chunks of item ids and send back results.
 int run_atlas_mpi(const AtlasOptions& options, int rank, int ranks);
+
+/// `robomill toolpath` over `ranks` MPI ranks: every rank reads the program
+/// and runs it over the stock; block b of the samples is computed in full by
+/// rank b mod ranks (the others walk its postures only) and sent to rank 0,
+/// which writes everything and, with --optimize, improves the program alone.
+/// The files are those of the single-process run, bit for bit.
+int run_toolpath_mpi(const JobCommandOptions& options, int rank, int ranks);
 
 }  // namespace robomill::app

@@ -27,5 +27,5 @@ case "$out" in *"--restart"*) ;; *) fail "MPI mismatch message: $out" ;; esac
 # Other commands refuse to run once per rank.
 out=$("$MPIEXEC" --allow-run-as-root --oversubscribe -np 2 "$ROBOMILL" validate "$WORK/mpi.yaml" 2>&1) \
   && fail "validate over 2 ranks accepted: $out"
-case "$out" in *"only \`robomill atlas JOB\` runs over MPI ranks"*) ;; *) fail "non-atlas over MPI: $out" ;; esac
+case "$out" in *"\`robomill toolpath JOB\` run over MPI ranks"*) ;; *) fail "non-atlas over MPI: $out" ;; esac
 finish
