@@ -127,8 +127,7 @@ int run_toolpath(const JobCommandOptions& options, const analysis::BlockSharing*
   CommandResult result;
   try {
     result = commands::compute_toolpath(job, options.threads, samples_file,
-                                        progress_bars(!options.quiet), options.optimize,
-                                        sharing);
+                                        progress_bars(!options.quiet), options.optimize, sharing);
   } catch (...) {
     std::filesystem::remove(samples_file, ignored);
     if (!out_existed)
