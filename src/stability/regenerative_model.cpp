@@ -86,26 +86,48 @@ std::vector<tool::EdgeElement> RegenerativeModel::edge(double axial_depth_m) con
 
 namespace {
 
-// Calls visit(element, db, T, n) for every engaged (element, tooth) at
-// spindle angle ϕ: T the projection of 001 Eq 11 (columns Ft, Fr, Fa), n the
-// edge normal. `entry` (optional) replaces the entry angle by the element's
-// height (000 Eq 20, the deformation-corrected engagement).
-template <class Visit>
-void for_each_engaged(const tool::Tool& tool, const cutting::MillingProcess& process,
-                      const std::vector<tool::EdgeElement>& edge, double rotation_rad,
-                      const std::function<double(double)>& entry, Visit&& visit) {
+// An edge element with what its engagement needs that does not change with
+// the spindle angle.
+struct EngagedElement {
+  const tool::EdgeElement* element;
+  double sin_kappa, cos_kappa;
+  cutting::Engagement engagement;
+};
+
+// `entry` (optional) replaces the entry angle by the element's height (000
+// Eq 20, the deformation-corrected engagement).
+std::vector<EngagedElement> engaged_elements(const tool::Tool& tool,
+                                             const cutting::MillingProcess& process,
+                                             const std::vector<tool::EdgeElement>& edge,
+                                             const std::function<double(double)>& entry) {
+  std::vector<EngagedElement> elements;
+  elements.reserve(edge.size());
   for (const tool::EdgeElement& element : edge) {
     const bool cylindrical = element.kappa_rad == 0.5 * std::numbers::pi;
-    const double sin_kappa = cylindrical ? 1.0 : std::sin(element.kappa_rad);
-    const double cos_kappa = cylindrical ? 0.0 : std::cos(element.kappa_rad);
-    cutting::Engagement engagement = cutting::radial_engagement(
-        tool.radius_m(), element.radius_m, process.radial_depth_m, process.direction);
+    EngagedElement e{&element, cylindrical ? 1.0 : std::sin(element.kappa_rad),
+                     cylindrical ? 0.0 : std::cos(element.kappa_rad),
+                     cutting::radial_engagement(tool.radius_m(), element.radius_m,
+                                                process.radial_depth_m, process.direction)};
     if (entry)
-      engagement.entry_rad = std::max(engagement.entry_rad, entry(element.height_m));
+      e.engagement.entry_rad = std::max(e.engagement.entry_rad, entry(element.height_m));
+    elements.push_back(e);
+  }
+  return elements;
+}
+
+// Calls visit(element, db, T, n) for every engaged (element, tooth) at
+// spindle angle ϕ: T the projection of 001 Eq 11 (columns Ft, Fr, Fa), n the
+// edge normal.
+template <class Visit>
+void for_each_engaged(const tool::Tool& tool, const std::vector<EngagedElement>& elements,
+                      double rotation_rad, Visit&& visit) {
+  for (const EngagedElement& e : elements) {
+    const tool::EdgeElement& element = *e.element;
+    const double sin_kappa = e.sin_kappa, cos_kappa = e.cos_kappa;
     for (int j = 0; j < tool.teeth(); ++j) {
       const double phi =
           cutting::wrap_angle_rad(rotation_rad + tool.pitch_angle_rad(j) - element.lag_rad);
-      if (phi < engagement.entry_rad || phi > engagement.exit_rad)
+      if (phi < e.engagement.entry_rad || phi > e.engagement.exit_rad)
         continue;
       const double s = std::sin(phi), c = std::cos(phi);
       Eigen::Matrix3d projection;
@@ -116,6 +138,14 @@ void for_each_engaged(const tool::Tool& tool, const cutting::MillingProcess& pro
       visit(element, element.chip_width_m, projection, normal);
     }
   }
+}
+
+template <class Visit>
+void for_each_engaged(const tool::Tool& tool, const cutting::MillingProcess& process,
+                      const std::vector<tool::EdgeElement>& edge, double rotation_rad,
+                      const std::function<double(double)>& entry, Visit&& visit) {
+  for_each_engaged(tool, engaged_elements(tool, process, edge, entry), rotation_rad,
+                   std::forward<Visit>(visit));
 }
 
 }  // namespace
@@ -132,6 +162,25 @@ Eigen::Matrix3d RegenerativeModel::cutting_stiffness(double rotation_rad,
                      stiffness += width * (projection * shear) * normal.transpose();
                    });
   return stiffness;
+}
+
+Eigen::Matrix3d RegenerativeModel::cutting_stiffness_sum(double period_rad, int samples,
+                                                         double axial_depth_m) const {
+  const Eigen::Vector3d shear(law_.Ktc_pa, law_.Krc_pa, law_.Kac_pa);
+  const std::vector<tool::EdgeElement> edge_elements = edge(axial_depth_m);
+  const std::vector<EngagedElement> elements =
+      engaged_elements(tool_, process_, edge_elements, entry_at(axial_depth_m));
+  Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
+  for (int s = 0; s < samples; ++s) {
+    Eigen::Matrix3d stiffness = Eigen::Matrix3d::Zero();
+    for_each_engaged(tool_, elements, (s + 0.5) * period_rad / samples,
+                     [&](const tool::EdgeElement&, double width, const Eigen::Matrix3d& projection,
+                         const Eigen::Vector3d& normal) {
+                       stiffness += width * (projection * shear) * normal.transpose();
+                     });
+    sum += stiffness;
+  }
+  return sum;
 }
 
 Eigen::Matrix3d RegenerativeModel::damping_shape(double rotation_rad, double axial_depth_m,

@@ -39,11 +39,7 @@ Eigen::Matrix3d mean_cutting_stiffness_per_depth(const RegenerativeModel& model,
   const double period_rad = two_pi / model.tool().teeth();
   // Midpoint rule over one tooth period: every tooth sweeps 2π/N, so together
   // they visit each edge angle once and the helix lag only shifts the phase.
-  Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
-  for (int s = 0; s < samples; ++s) {
-    sum += model.cutting_stiffness((s + 0.5) * period_rad / samples, depth);
-  }
-  return sum / (samples * depth);
+  return model.cutting_stiffness_sum(period_rad, samples, depth) / (samples * depth);
 }
 
 Eigen::Matrix3d mean_cutting_stiffness_per_depth(const tool::Tool& tool,

@@ -49,6 +49,12 @@ class RegenerativeModel {
   /// the tool the modal coupling is not ψ(0)ᵀ W ψ(0): see modal_coupling).
   Eigen::Matrix3d cutting_stiffness(double rotation_rad, double axial_depth_m) const;
 
+  /// Σ_s cutting_stiffness((s + ½) period / samples, ap) over s < samples,
+  /// the same values summed in the same order, with the edge's elements and
+  /// their engagement found once instead of at every angle (the period
+  /// average of the zero-order method, zero_order.hpp).
+  Eigen::Matrix3d cutting_stiffness_sum(double period_rad, int samples, double axial_depth_m) const;
+
   /// P = Σ_k ψ(z_k)ᵀ W_k ψ(z_k) at spindle angle ϕ (000 Eq 32, 37): the modal
   /// coupling the Floquet solver takes; ψ(0)ᵀ W ψ(0) for a tip model.
   Eigen::MatrixXd modal_coupling(double rotation_rad, double axial_depth_m) const;
