@@ -49,6 +49,7 @@ void write_result(const std::filesystem::path& out, const io::OutputSettings& ou
   // report.html from the staged files (the same function as `robomill
   // report OUTDIR` on disk), in the same atomic commit. A report that cannot
   // be rendered is a warning: the results are never lost for it.
+  bool reported = false;
   if (report && output.html && !result.summary.is_null()) {
     report::Files files;
     files["summary.json"] = io::summary_text(result.summary);
@@ -56,11 +57,18 @@ void write_result(const std::filesystem::path& out, const io::OutputSettings& ou
       files[name] = content;
     try {
       bundle.add("report.html", report::render_html(files));
+      reported = true;
     } catch (const std::exception& error) {
       std::cerr << "robomill: warning: report.html not written: " << error.what() << '\n';
     }
   }
   bundle.commit();
+  // An earlier run's report.html would describe results that are no longer
+  // there (a --quiet run, html now off, a report that failed to render).
+  if (!reported) {
+    std::error_code ignored;
+    std::filesystem::remove(out / "report.html", ignored);
+  }
 }
 
 std::vector<std::string> job_sections(const io::Job& job) {

@@ -57,6 +57,12 @@ grep -q 'limiting depth (mm)' "$WORK/stability/report.html" || fail "stability: 
 "$ROBOMILL" report "$WORK/quiet" --quiet || fail "report of a --quiet folder"
 check_report "$WORK/quiet/report.html" "rebuilt forces"
 
+# A --quiet run into a folder with an earlier run's report removes it: the
+# report would describe results that are no longer there.
+"$ROBOMILL" forces "$EX/demo.yaml" --set process.spindle=5000rpm --out "$WORK/quiet" --quiet \
+  || fail "quiet re-run exit code"
+[ -e "$WORK/quiet/report.html" ] && fail "--quiet left the earlier run's report.html"
+
 # Not an output folder: exit 2 with a clear message, nothing written.
 mkdir -p "$WORK/empty"
 msg=$("$ROBOMILL" report "$WORK/empty" 2>&1); code=$?

@@ -48,7 +48,8 @@ using Progress = std::function<void(const std::string& stage, double fraction)>;
 /// commits it (all files or none). With `report` and the job's
 /// output.formats allowing html, adds report.html rendered from the staged
 /// files (report::render_html); a report that cannot be rendered is a
-/// warning on stderr, never a lost result.
+/// warning on stderr, never a lost result. Without a new report, an earlier
+/// run's report.html in `out` is removed (it would describe other results).
 void write_result(const std::filesystem::path& out, const io::OutputSettings& output,
                   const CommandResult& result, bool report = false);
 
