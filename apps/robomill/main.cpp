@@ -3,10 +3,12 @@
 // Exit codes: 0 success, 2 invalid job or arguments, 1 any other failure.
 
 #include <CLI/CLI.hpp>
+#include <chrono>
 #include <cstdio>
 #include <exception>
 #include <iostream>
 #include <string>
+#include <thread>
 
 #include "commands.hpp"
 #ifdef ROBOMILL_WITH_MPI
@@ -292,8 +294,14 @@ int run(int argc, char** argv, int rank, int ranks) {
     if (report->parsed())
       return robomill::app::run_report(report_options);
   } catch (const robomill::InputError& error) {
-    if (rank == 0)
-      std::cerr << "robomill: error: " << error.what() << '\n';
+    // Under mpirun every rank reads the job: rank 0 says what is wrong. A
+    // failing rank aborts them all (MpiSession::exit), so another rank
+    // waits a moment first, and speaks only if rank 0 did not (an error of
+    // its own).
+    if (rank != 0)
+      std::this_thread::sleep_for(std::chrono::seconds(2));
+    std::cerr << "robomill: error: " << error.what()
+              << (rank != 0 ? " (MPI rank " + std::to_string(rank) + ")" : std::string()) << '\n';
     return kExitInvalidInput;
   } catch (const std::invalid_argument& error) {
     // Model constructors reject what the parser let through (it should not).
