@@ -17,6 +17,7 @@
 
 #include "robomill/analysis/program_run.hpp"
 #include "robomill/core/error.hpp"
+#include "robomill/io/krl_frame_turn.hpp"
 #include "robomill/io/program_readers.hpp"
 #include "robomill/io/program_writer.hpp"
 
@@ -33,26 +34,39 @@ std::string program_extension(const io::ToolpathSettings& settings) {
 
 // Writes `text` to a scratch file and reads it back with the program's own
 // reader (the written program must parse as it will on the cell).
+// With `dat`, a KRL program's .dat goes next to it.
 toolpath::Program read_back(const io::ToolpathSettings& settings, const std::string& text,
-                            const std::filesystem::path& scratch_file, std::size_t expected_moves) {
-  {
-    std::ofstream file(scratch_file, std::ios::binary | std::ios::trunc);
-    file << text;
-    if (!file)
-      throw Error("cannot write " + scratch_file.string());
-  }
+                            const std::filesystem::path& scratch_file, std::size_t expected_moves,
+                            const std::string* dat = nullptr) {
+  const std::filesystem::path scratch_dat =
+      std::filesystem::path(scratch_file).replace_extension(".dat");
+  const auto write = [](const std::filesystem::path& file, const std::string& content) {
+    std::ofstream out(file, std::ios::binary | std::ios::trunc);
+    out << content;
+    if (!out)
+      throw Error("cannot write " + file.string());
+  };
+  const auto remove = [&] {
+    std::error_code ignored;
+    std::filesystem::remove(scratch_file, ignored);
+    if (dat)
+      std::filesystem::remove(scratch_dat, ignored);
+  };
   io::ToolpathSettings again = settings;
   again.file = scratch_file;
   toolpath::Program program;
   try {
+    write(scratch_file, text);
+    if (dat) {
+      write(scratch_dat, *dat);
+      again.dat_file = scratch_dat;
+    }
     program = io::read_program(again);
   } catch (...) {
-    std::error_code ignored;
-    std::filesystem::remove(scratch_file, ignored);
+    remove();
     throw;
   }
-  std::error_code ignored;
-  std::filesystem::remove(scratch_file, ignored);
+  remove();
   if (program.moves.size() != expected_moves)
     throw Error(fmt::format("the written program reads back as {} moves, the original as {}",
                             program.moves.size(), expected_moves));
@@ -286,8 +300,35 @@ ProgramImprovement improve_program(const io::Job& job, const toolpath::Program& 
                                     [](const toolpath::Move& m) { return m.oriented; });
   const bool search = job.robot_path && !job.robot_path->redundancy_search_rad.empty();
   RedundancyDecision& psi = out.redundancy;
+  const bool krl = settings.format == io::ToolpathSettings::Format::krl;
+  const auto read_text = [](const std::filesystem::path& file) {
+    std::ifstream in(file, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  };
+  const std::string text = read_text(settings.file);
+  const std::string dat_text = krl ? read_text(settings.dat_file) : std::string();
   if (search && oriented) {
-    psi.kind = RedundancyDecision::Kind::program_frames;
+    // The frames set ψ: a KRL program's can be turned as a whole, each
+    // Cartesian point's A, B, C (io/krl_frame_turn.hpp), where every one
+    // of them can.
+    const io::KrlFrameTurn trial =
+        krl ? io::turn_krl_frames(text, dat_text, 0.0, settings.tool_direction)
+            : io::KrlFrameTurn{};
+    if (!krl || !trial.refused.empty()) {
+      psi.kind = RedundancyDecision::Kind::program_frames;
+      if (!trial.refused.empty())
+        psi.frames_refused =
+            fmt::format("{} line {}: {}",
+                        trial.refused.front().file == "dat" ? settings.dat_file.filename().string()
+                                                            : settings.file.filename().string(),
+                        trial.refused.front().line, trial.refused.front().reason);
+    } else {
+      psi.kind = RedundancyDecision::Kind::single;
+      psi.turns_frames = true;
+      psi.choice = toolpath::choose_redundancy_angle(
+          before, recorded, job.robot_path->redundancy_search_rad, 0.02, threads);
+      after_settings.frame_turn_rad = psi.choice->chosen_rad;
+    }
   } else if (search && job.robot_path->redundancy_per_line) {
     // ψ(s): one angle per program line, turning between lines within the
     // joint-speed bound.
@@ -310,6 +351,7 @@ ProgramImprovement improve_program(const io::Job& job, const toolpath::Program& 
     after_settings.redundancy_rad = psi.choice->chosen_rad;
   }
   out.redundancy_changed = after_settings.redundancy_rad != setup.settings.redundancy_rad ||
+                           after_settings.frame_turn_rad != setup.settings.frame_turn_rad ||
                            !after_settings.redundancy_by_move.empty();
 
   SpindleDecision& spindles = out.spindles;
@@ -339,11 +381,8 @@ ProgramImprovement improve_program(const io::Job& job, const toolpath::Program& 
                           after_settings.redundancy_rad * kDegPerRad)
             : std::string("; run with the redundancy angles of redundancy_schedule.csv");
 
-  std::ifstream in(settings.file, std::ios::binary);
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   // KRL programs carry no spindle speed (the cell's PLC sets it): the
   // choices are reported, not written.
-  const bool krl = settings.format == io::ToolpathSettings::Format::krl;
   spindles.unwritable = !edits.empty() && krl;
   spindles.written = !edits.empty() && !krl;
   if (!spindles.written)
@@ -489,6 +528,32 @@ ProgramImprovement improve_program(const io::Job& job, const toolpath::Program& 
   rerun.max_torque_nm = analysis.max_torque_nm;
   rerun.cycle_time_s = analysis.cutting_time_s + analysis.air_time_s + analysis.dwell_time_s;
   rerun.redundancy_rad = after_settings.redundancy_rad;
+  // A turn of a KRL program's frames, written into every Cartesian point of
+  // the .src and the .dat, read back: the same points, each tool x turned
+  // about its axis by the chosen angle.
+  if (psi.turns_frames && psi.choice->changed()) {
+    const double turn_rad = psi.choice->chosen_rad - psi.choice->programmed_rad;
+    io::KrlFrameTurn turned =
+        io::turn_krl_frames(written, dat_text, turn_rad, settings.tool_direction);
+    const toolpath::Program check =
+        read_back(settings, turned.src, scratch_file, rewritten.moves.size(), &turned.dat);
+    for (std::size_t m = 0; m < check.moves.size(); ++m) {
+      const toolpath::Move& got = check.moves[m];
+      const toolpath::Move& was = rewritten.moves[m];
+      const Eigen::Vector3d want_x =
+          Eigen::AngleAxisd(turn_rad, was.axis_end.normalized()) * was.tool_x_end;
+      if ((got.end_m - was.end_m).norm() > 1e-9 || (got.axis_end - was.axis_end).norm() > 1e-9 ||
+          (got.tool_x_end - want_x).norm() > 1e-7)
+        throw Error(
+            fmt::format("the turned frames of line {} read back as another pose than the "
+                        "program's turned by {:.3f} deg; nothing was written",
+                        got.line, turn_rad * kDegPerRad));
+    }
+    written = std::move(turned.src);
+    out.dat_text = std::move(turned.dat);
+    out.frames_turned = turned.frames;
+    written_changes = true;
+  }
   if (corrections) {
     CompensationOutcome& c = out.compensation.emplace(
         compensate_program(job, setup, tooling, after_settings, analysis_settings, *corrections,

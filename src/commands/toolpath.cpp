@@ -316,11 +316,15 @@ nlohmann::json improvement_json(const analysis::ProgramImprovement& im,
   const analysis::RedundancyDecision& psi = im.redundancy;
   nlohmann::json redundancy = nullptr;
   if (psi.kind == Kind::program_frames) {
-    redundancy = {{"programmed_deg", nullptr},
-                  {"note",
-                   "the program's frames fix the tool's rotation about its axis (ψ per sample, "
-                   "psi_deg): robot_path.redundancy_search is not applied"}};
-    message += "  optimize: the program's frames fix ψ; redundancy_search not applied\n";
+    std::string note =
+        "the program's frames fix the tool's rotation about its axis (ψ per sample, psi_deg): "
+        "robot_path.redundancy_search is not applied";
+    if (!psi.frames_refused.empty())
+      note += "; its frames cannot all be turned: " + psi.frames_refused;
+    redundancy = {{"programmed_deg", nullptr}, {"note", note}};
+    message += "  optimize: the program's frames fix ψ; redundancy_search not applied" +
+               (psi.frames_refused.empty() ? std::string() : " (" + psi.frames_refused + ")") +
+               "\n";
   } else if (psi.kind == Kind::per_line) {
     const toolpath::RedundancySchedule& schedule = *psi.schedule;
     io::CsvTable table({"line", "first_move", "last_move", "from_deg", "to_deg", "turn",
@@ -381,10 +385,21 @@ nlohmann::json improvement_json(const analysis::ProgramImprovement& im,
                   {"note",
                    "ψ is the cell's setting (the robot post's rotation about the tool "
                    "axis): the program has no word for it"}};
+    if (psi.turns_frames) {
+      redundancy["frames"] = true;
+      redundancy["frames_turned"] = im.frames_turned;
+      redundancy["note"] =
+          "the program's frames set ψ at every sample (psi_deg): the angles are turns of all "
+          "its frames about the tool axis, one for the whole program (its points serve several "
+          "lines), written into the A, B, C of every Cartesian point of program_optimized.src "
+          "and .dat; S and T bits are kept";
+    }
     if (choice.changed())
       message += fmt::format(
-          "  optimize: redundancy angle {:.0f} -> {:.0f} deg (min margin {:.2f} "
+          "  optimize: {} {:.0f} -> {:.0f} deg (min margin {:.2f} "
           "-> {:.2f} at the programmed speeds)\n",
+          psi.turns_frames ? "the program's frames turned about the tool axis,"
+                           : "redundancy angle",
           choice.programmed_rad * kDegPerRad, choice.chosen_rad * kDegPerRad,
           choice.min_margin_before, choice.min_margin_after);
   }
@@ -533,6 +548,8 @@ nlohmann::json improvement_json(const analysis::ProgramImprovement& im,
     out["program"] = nullptr;  // only ψ changed: the program itself is the same
   else
     result.texts.emplace_back(im.name, *im.text);
+  if (im.dat_text)
+    result.texts.emplace_back("program_optimized.dat", *im.dat_text);
   message += fmt::format(
       "  optimize: {}; chatter samples {} -> {}, min margin -> {:.2f}, {} samples no longer at "
       "risk, {} newly at risk; cycle time {:.1f} -> {:.1f} s\n",

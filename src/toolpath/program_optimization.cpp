@@ -100,7 +100,11 @@ RedundancyChoice choose_redundancy_angle(const RobotAlongPath& along,
                                          int threads) {
   const double risk = along.settings().risk_margin;
   RedundancyChoice choice;
-  choice.programmed_rad = choice.chosen_rad = along.settings().redundancy_rad;
+  // A program whose frames set ψ (KRL) is turned as a whole: the candidates
+  // are turns of its frames.
+  const bool frames = !samples.empty() && samples.front().sample.oriented;
+  choice.programmed_rad = choice.chosen_rad =
+      frames ? along.settings().frame_turn_rad : along.settings().redundancy_rad;
   choice.samples = samples.size();
   choice.min_margin_before = std::numeric_limits<double>::infinity();
   for (const RecordedSample& r : samples) {

@@ -175,7 +175,7 @@ RobotSample RobotAlongPath::posture_at(const PathSample& sample, double redundan
   if (sample.oriented) {
     const Eigen::Vector3d x0 = robot::tool_orientation_about_axis(axis, 0.0).col(0);
     const Eigen::Vector3d x = settings_.workpiece_to_cell.linear() * sample.tool_x;
-    redundancy_rad = std::atan2(x0.cross(x).dot(axis), x0.dot(x));
+    redundancy_rad += std::atan2(x0.cross(x).dot(axis), x0.dot(x));
   }
   robot::IkResult solution =
       robot::inverse_kinematics_about_axis(model_, tip, axis, redundancy_rad, seed_rad, ik);
@@ -207,8 +207,8 @@ RobotSample RobotAlongPath::posture_at(const PathSample& sample, double redundan
 }
 
 void RobotAlongPath::posture(const PathSample& sample, RobotSample& out) {
-  double psi = settings_.redundancy_rad;
-  if (sample.move < settings_.redundancy_by_move.size()) {
+  double psi = sample.oriented ? settings_.frame_turn_rad : settings_.redundancy_rad;
+  if (!sample.oriented && sample.move < settings_.redundancy_by_move.size()) {
     const auto [from, to] = settings_.redundancy_by_move[sample.move];
     psi = from + (to - from) * sample.move_fraction;
   }

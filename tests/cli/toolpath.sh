@@ -154,6 +154,38 @@ assert all(line["turn_joint_speed_deg_s"] <= 20.0 + 1e-9 for line in r["lines"])
 assert o["after"]["max_joint_speed_deg_s"] <= 20.0 * 1.001, o["after"]
 assert o["samples_newly_at_risk"] == 0, o
 PYEOF
+# ψ of a KRL program on the angle head: the search turns the program's frames
+# about the tool axis, writes the turn into the A, B, C of every Cartesian
+# point of program_optimized.src and .dat, and the written pair analysed on
+# its own gives the re-run's figures (the compensation is not for KRL).
+sed -e '/^  compensation:/d' -e "s|file: programs/pocket.nc|file: $SOURCE/examples/programs/pocket.nc|" \
+  "$R" > "$WORK/robot_krl.yaml"
+KRL_HEAD=(--set "toolpath=$KRL_TOOLPATH" --set 'robot.tool={xyz: [0, 0, 350], rpy: [180, 60, 0]}'
+  --set "stability.speeds={from: 4000 rpm, to: 12000 rpm, count: 41}")
+"$ROBOMILL" toolpath "$WORK/robot_krl.yaml" --out "$WORK/krl_psi" --quiet --optimize "${KRL_HEAD[@]}" \
+  --set "toolpath.file=$SOURCE/examples/programs/pocket.src" \
+  --set "toolpath.dat=$SOURCE/examples/programs/pocket.dat" \
+  --set 'robot_path.redundancy_search={from: -90 deg, to: 90 deg, count: 13}' \
+  || fail "--optimize of a KRL program's ψ exit code"
+[ -s "$WORK/krl_psi/program_optimized.dat" ] || fail "KRL ψ: no program_optimized.dat"
+"$ROBOMILL" toolpath "$WORK/robot_krl.yaml" --out "$WORK/krl_psi_again" --quiet "${KRL_HEAD[@]}" \
+  --set "toolpath.file=$WORK/krl_psi/program_optimized.src" || fail "the turned KRL program"
+/usr/bin/python3 - "$WORK/krl_psi" "$WORK/krl_psi_again" <<'PYEOF' || fail "KRL frames turned"
+import json, sys
+o = json.load(open(sys.argv[1] + "/summary.json"))["optimization"]
+r = o["redundancy"]
+assert r["frames"] and r["chosen_deg"] != r["programmed_deg"], r
+assert r["frames_turned"] == 13, r  # 2 inline PTP frames, XHOME and 10 array points
+assert r["min_margin_after"] > r["min_margin_before"] and o["samples_newly_at_risk"] == 0, o
+again = json.load(open(sys.argv[2] + "/summary.json"))["robot_along_path"]
+assert all(abs(v - r["chosen_deg"]) < 1e-9 for v in again["redundancy_range_deg"]), again
+after = o["after"]
+for key in ("min_margin", "max_form_error_um"):
+    assert abs(again[key] - after[key]) <= 1e-9 * abs(after[key]), (key, again[key], after[key])
+assert again["at_risk_samples"] == after["at_risk_samples"], (again, after)
+print(f"KRL frames turned by {r['chosen_deg']:.0f} deg: min margin {r['min_margin_before']:.3f} -> "
+      f"{again['min_margin']:.3f} on the written program")
+PYEOF
 # A cap no feed can meet: an error naming the program line, nothing written.
 expect_exit2 "no feed satisfies the limits" toolpath "$R" --optimize "${FAST[@]}" \
   --set 'robot_path.feed_limits={force_max: 20 N, feed_min: 200 mm/min}'

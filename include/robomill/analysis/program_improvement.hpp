@@ -63,6 +63,14 @@ struct RedundancyDecision {
     single,          ///< one angle for the program: `choice`
   };
   Kind kind = Kind::none;
+  /// single, on a KRL program: the candidates turn its frames about the tool
+  /// axis (RobotPathSettings::frame_turn_rad), and the chosen turn is
+  /// written into them (io::turn_krl_frames). One turn for the whole
+  /// program: its points serve several lines (FOR loops, a home pose).
+  bool turns_frames = false;
+  /// program_frames: why the frames cannot be turned ("pocket.src line 12:
+  /// …"); empty for a dialect whose frames robomill does not write.
+  std::string frames_refused;
   double joint_speed_max_rad_s = 0.0;  ///< per_line: the bound on every turn
   std::optional<toolpath::RedundancySchedule> schedule;
   std::optional<toolpath::RedundancyChoice> choice;
@@ -125,6 +133,9 @@ struct ProgramImprovement {
   std::string name;                 ///< program_optimized.<ext>
   /// The written program; empty when only ψ changed (the text is the same).
   std::optional<std::string> text;
+  /// A KRL program's .dat with its frames turned (program_optimized.dat).
+  std::optional<std::string> dat_text;
+  std::size_t frames_turned = 0;
   std::optional<AfterRun> after;
   std::optional<CompensationOutcome> compensation;
   double cycle_time_before_s = 0.0;

@@ -85,7 +85,9 @@ struct RedundancyChoice {
 /// safe sample at risk, no more samples at risk, and the largest smallest
 /// margin, better than the programmed ψ's by more than `min_gain`; else the
 /// programmed ψ. On return `samples` hold the postures and margins at the
-/// chosen ψ (for the spindle choice that follows).
+/// chosen ψ (for the spindle choice that follows). Samples whose frames set
+/// ψ (PathSample::oriented: a KRL program) take each candidate as a turn of
+/// their own ψ, the programmed one being RobotPathSettings::frame_turn_rad.
 RedundancyChoice choose_redundancy_angle(const RobotAlongPath& along,
                                          std::vector<RecordedSample>& samples,
                                          const std::vector<double>& candidates_rad,

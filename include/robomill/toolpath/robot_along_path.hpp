@@ -99,6 +99,10 @@ struct RobotPathSettings {
   /// A schedule ψ(s) instead (program_optimization.hpp): ψ at the start and
   /// the end of every move, linear along it; empty: redundancy_rad.
   std::vector<std::pair<double, double>> redundancy_by_move;
+  /// A turn of the program's own ψ at every oriented sample (its frames
+  /// turned about the tool axis: `--optimize` on a KRL program, written back
+  /// with io::turn_krl_frames).
+  double frame_turn_rad = 0.0;
   /// The IK's first seed (rad, one per joint); each later sample starts from
   /// the posture before it, so the robot follows one configuration.
   Eigen::VectorXd seed_rad;
@@ -259,8 +263,9 @@ class RobotAlongPath {
   /// The totals so far, with the worst lines' advice computed.
   RobotPathSummary finish();
 
-  /// The robot at a sample with redundancy angle ψ (the program's own where
-  /// the sample is oriented: PathSample::tool_x), the inverse kinematics
+  /// The robot at a sample with redundancy angle ψ = `redundancy_rad`, or,
+  /// where the sample is oriented (PathSample::tool_x, a KRL frame), the
+  /// program's own ψ turned by `redundancy_rad`; the inverse kinematics
   /// starting from `seed_rad` (the posture only: no limit, no deflection).
   RobotSample posture_at(const PathSample& sample, double redundancy_rad,
                          const Eigen::VectorXd& seed_rad) const;
