@@ -44,14 +44,8 @@ int run_forces(const JobCommandOptions& options) {
 }
 
 int run_frf(const FrfCommandOptions& options) {
-  const io::Job job = load(options.job);
-  CommandResult result = commands::compute_frf(job, options);
-  const std::filesystem::path out = output_dir(options.job, job, "frf");
-  add_key_inputs(result, job);
-  write_result(out, job.output, result, !options.job.quiet);
-  if (!options.job.quiet)
-    std::cout << result.message << "  written to " << out.string() << '\n';
-  return 0;
+  return run_job_command(options.job, "frf",
+                         [&](const io::Job& job) { return commands::compute_frf(job, options); });
 }
 
 int run_identify_cutting(const IdentifyOptions& options) {
