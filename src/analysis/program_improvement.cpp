@@ -139,7 +139,12 @@ CompensationOutcome compensate_program(const io::Job& job, const io::RobotPathSe
   std::map<int, std::string> skipped;
   for (const auto& s : edited.skipped)
     skipped[s.line] = s.reason;
-  outcome.skipped.assign(skipped.begin(), skipped.end());
+  // Lines with an error the compensation leaves as programmed (arcs).
+  std::map<int, std::string> kept;
+  for (const toolpath::PathCorrections::Kept& k : collected.kept(program))
+    kept.emplace(k.line, k.reason);
+  kept.insert(skipped.begin(), skipped.end());  // a line both kept and skipped: one reason
+  outcome.skipped.assign(kept.begin(), kept.end());
   for (const toolpath::LineCorrection& c : all) {
     if (skipped.count(c.line))
       continue;

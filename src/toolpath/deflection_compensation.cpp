@@ -154,6 +154,31 @@ std::vector<LineCorrection> PathCorrections::corrections(const Program& program)
   return out;
 }
 
+std::vector<PathCorrections::Kept> PathCorrections::kept(const Program& program) const {
+  std::map<int, int> moves_on_line;
+  for (const Move& move : program.moves)
+    ++moves_on_line[move.line];
+  const std::size_t moves = std::min(program.moves.size(), samples_.size());
+  std::vector<Kept> out;
+  for (std::size_t m = 0; m < moves; ++m) {
+    const Move& move = program.moves[m];
+    if (move.kind != MotionKind::linear && move.kind != MotionKind::arc)
+      continue;
+    double largest = 0.0;
+    for (const Eigen::Vector3d& v : samples_[m])
+      largest = std::max(largest, v.norm());
+    if (largest < settings_.min_offset_m || (!out.empty() && out.back().line == move.line))
+      continue;
+    if (move.kind == MotionKind::arc)
+      out.push_back({move.line, "an arc: kept as programmed"});
+    else if (moves_on_line[move.line] != 1)
+      out.push_back({move.line, "one of several moves on its line (a loop or a cycle)"});
+    else if (m + 1 < moves && program.moves[m + 1].kind == MotionKind::arc)
+      out.push_back({move.line, "before an arc, whose centre is programmed from its start"});
+  }
+  return out;
+}
+
 std::vector<Eigen::Vector3d> corrected_ends(const Program& program,
                                             const std::vector<LineCorrection>& corrections) {
   std::map<std::size_t, const LineCorrection*> by_move;

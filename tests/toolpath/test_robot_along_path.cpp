@@ -845,5 +845,50 @@ TEST(DeflectionCompensation, PolylineFollowsTheSamplesAndCornersTakeBothWalls) {
   EXPECT_LT((ends[5] - Eigen::Vector3d(0.01 + 30e-6, 0.01, 0)).norm(), 1e-12);
 }
 
+// What the compensation leaves as programmed is said, line by line: an arc,
+// the line before it (the arc's centre is programmed from its start), a line
+// of several moves; a line whose error stays under min_offset is not listed.
+TEST(DeflectionCompensation, LinesLeftAsProgrammedAreNamedWithTheReason) {
+  Program program;
+  auto move = [&](MotionKind kind, int number) {
+    Move m;
+    m.kind = kind;
+    m.start_m = Eigen::Vector3d(0.01 * program.moves.size(), 0, 0);
+    m.end_m = m.start_m + Eigen::Vector3d(0.01, 0, 0);
+    m.feed_m_s = 0.01;
+    m.line = number;
+    program.moves.push_back(m);
+  };
+  move(MotionKind::linear, 1);  // compensated
+  move(MotionKind::linear, 2);  // before the arc
+  move(MotionKind::arc, 3);
+  move(MotionKind::linear, 4);  // two moves on line 4
+  move(MotionKind::linear, 4);
+  move(MotionKind::linear, 5);  // under min_offset
+  PathCorrections corrections(program.moves.size(), CompensationSettings{});
+  for (std::size_t m = 0; m < program.moves.size(); ++m)
+    for (int k = 0; k <= 4; ++k) {
+      PathSample s;
+      s.move = m;
+      s.analysed = true;
+      RobotSample r;
+      r.reachable = r.wall = true;
+      r.wall_direction = -Eigen::Vector3d::UnitY();
+      r.form_error_m = m == 5 ? 0.5e-6 : 20e-6;
+      corrections.add(s, r);
+    }
+  const std::vector<LineCorrection> written = corrections.corrections(program);
+  ASSERT_EQ(written.size(), 1u);
+  EXPECT_EQ(written[0].line, 1);
+  const std::vector<PathCorrections::Kept> kept = corrections.kept(program);
+  ASSERT_EQ(kept.size(), 3u);
+  EXPECT_EQ(kept[0].line, 2);
+  EXPECT_NE(kept[0].reason.find("before an arc"), std::string::npos);
+  EXPECT_EQ(kept[1].line, 3);
+  EXPECT_NE(kept[1].reason.find("an arc"), std::string::npos);
+  EXPECT_EQ(kept[2].line, 4);
+  EXPECT_NE(kept[2].reason.find("several moves"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace robomill::toolpath

@@ -20,6 +20,7 @@
 #include <Eigen/Core>
 #include <cstddef>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "robomill/toolpath/program.hpp"
@@ -72,6 +73,15 @@ class PathCorrections {
   /// a moved start would bend the arc). A line starts where the line before
   /// was written to end (moved or not).
   std::vector<LineCorrection> corrections(const Program& program) const;
+
+  /// The lines with a correction of at least `min_offset_m` that
+  /// corrections() leaves as programmed, and why: an arc, a line before an
+  /// arc, a line of several moves (a KRL loop, a canned cycle).
+  struct Kept {
+    int line = 0;
+    std::string reason;
+  };
+  std::vector<Kept> kept(const Program& program) const;
 
  private:
   CompensationSettings settings_;
