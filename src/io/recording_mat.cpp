@@ -342,7 +342,15 @@ void check_v5_structure(const RecordingSpec& spec) {
       // Array flags are the first subelement: its class says whether to look inside.
       char flags[16];
       const auto start = stream.tellg();
-      if (size < 16 || !stream.read(flags, sizeof flags))
+      if (size == 0)
+        continue;  // an empty array: no subelements
+      // Smaller than its array flags: matio would read the subelements from
+      // what follows and allocate what they declare (a fuzz finding).
+      if (size < 16)
+        fail(spec, "file",
+             file_name(spec) + ": a variable of " + std::to_string(size) +
+                 " bytes is shorter than its array flags (corrupt MATLAB file?)");
+      if (!stream.read(flags, sizeof flags))
         return;
       std::uint32_t word = 0;
       std::memcpy(&word, flags + 8, 4);

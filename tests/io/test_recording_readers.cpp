@@ -378,6 +378,14 @@ TEST_F(RecordingReaders, CorruptMatHeadersAreRefusedBeforeMatioAllocates) {
   write_text(path("huge_dims.mat"), huge_dims);
   expect_error(spec_for(path("huge_dims.mat"), RecordingFormat::mat), "recording.file",
                {"huge_dims.mat", "corrupt"});
+  // A miMATRIX of 4 bytes, shorter than its array flags: matio read on into
+  // the next tags and asked for 3.3 GB (fuzz_recording_readers, oom-9079ac8d).
+  std::string short_matrix = bytes;
+  const unsigned char four[4] = {0x04, 0x00, 0x00, 0x00};
+  std::memcpy(short_matrix.data() + 128 + 4, four, 4);
+  write_text(path("short_matrix.mat"), short_matrix);
+  expect_error(spec_for(path("short_matrix.mat"), RecordingFormat::mat), "recording.file",
+               {"short_matrix.mat", "shorter than its array flags"});
   write_text(path("v4.mat"),
              std::string("\0\0\0\0\x01\0\0\0\x01\0\0\0\0\0\0\0\xff\xff\xff\x7f", 20) + "abcd");
   expect_error(spec_for(path("v4.mat"), RecordingFormat::mat), "recording.file",
