@@ -14,6 +14,7 @@
 #include <map>
 #include <memory>
 #include <numbers>
+#include <set>
 
 #include "robomill/analysis/program_run.hpp"
 #include "robomill/core/error.hpp"
@@ -119,70 +120,115 @@ CompensationOutcome compensate_program(const io::Job& job, const io::RobotPathSe
                                        const std::filesystem::path& scratch_file) {
   const io::ToolpathSettings& settings = *job.toolpath;
   CompensationOutcome outcome;
-  const std::vector<toolpath::LineCorrection> all = collected.corrections(program);
   // Workpiece frame → the program's own (the readers applied
   // toolpath.origin/orientation): offsets turn back by its rotation.
   const Eigen::Matrix3d to_program = settings.program_to_workpiece.linear().transpose();
-  std::vector<io::PointEdit> point_edits;
-  for (const toolpath::LineCorrection& c : all) {
-    io::PointEdit edit{c.line, to_program * c.offset_m, {}, ""};
-    double largest = c.offset_m.norm();
-    for (const toolpath::CorrectionPoint& p : c.points) {
-      edit.points.push_back({p.u, to_program * p.offset_m});
-      largest = std::max(largest, p.offset_m.norm());
+  // Written, then the lines the writer could not edit kept as programmed and
+  // the rest chosen again (a line's start is where the line before was
+  // written to end, an arc's centre is programmed from its start), until
+  // the writer edits every line asked.
+  std::set<int> keep;
+  std::map<int, std::string> skipped;  // line → the writer's reason, every round
+  std::vector<toolpath::LineCorrection> all;
+  io::PointEditResult edited;
+  for (;;) {
+    all = collected.corrections(program, keep);
+    std::vector<io::PointEdit> point_edits;
+    for (const toolpath::LineCorrection& c : all) {
+      io::PointEdit edit{c.line, to_program * c.offset_m, {}, "", std::nullopt};
+      double largest = c.offset_m.norm();
+      for (const toolpath::CorrectionPoint& p : c.points) {
+        edit.points.push_back({p.u, to_program * p.offset_m});
+        largest = std::max(largest, p.offset_m.norm());
+      }
+      if (c.arc) {
+        edit.arc = io::PointEdit::Arc{to_program * c.arc->centre_offset_m, c.arc->radius_change_m};
+        edit.comment = fmt::format(
+            "robomill: compensated arc, radius {:+.1f} um, centre moved {:.1f} um, within {:.1f} "
+            "um of the predicted error",
+            c.arc->radius_change_m * 1e6, c.arc->centre_offset_m.norm() * 1e6,
+            c.arc->fit_residual_m * 1e6);
+      } else {
+        edit.comment = fmt::format(
+            "robomill: compensated, up to {:.1f} um against the predicted error", largest * 1e6);
+      }
+      point_edits.push_back(std::move(edit));
     }
-    edit.comment = fmt::format("robomill: compensated, up to {:.1f} um against the predicted error",
-                               largest * 1e6);
-    point_edits.push_back(std::move(edit));
+    edited = io::write_point_edits(text, settings.format, point_edits);
+    if (edited.skipped.empty())
+      break;
+    for (const auto& s : edited.skipped) {
+      keep.insert(s.line);
+      skipped.emplace(s.line, s.reason);
+    }
   }
-  const io::PointEditResult edited = io::write_point_edits(text, settings.format, point_edits);
-  std::map<int, std::string> skipped;
-  for (const auto& s : edited.skipped)
-    skipped[s.line] = s.reason;
-  // Lines with an error the compensation leaves as programmed (arcs).
+  // Lines with an error the compensation leaves as programmed, and why; a
+  // line the writer skipped in an earlier round keeps that round's reason.
   std::map<int, std::string> kept;
-  for (const toolpath::PathCorrections::Kept& k : collected.kept(program))
+  for (const toolpath::PathCorrections::Kept& k : collected.kept(program, keep))
     kept.emplace(k.line, k.reason);
   kept.insert(skipped.begin(), skipped.end());  // a line both kept and skipped: one reason
   outcome.skipped.assign(kept.begin(), kept.end());
   for (const toolpath::LineCorrection& c : all) {
-    if (skipped.count(c.line))
-      continue;
     outcome.written.push_back(c);
     outcome.points_added += c.points.size();
     outcome.max_offset_m = std::max(outcome.max_offset_m, c.offset_m.norm());
     for (const toolpath::CorrectionPoint& p : c.points)
       outcome.max_offset_m = std::max(outcome.max_offset_m, p.offset_m.norm());
+    if (c.arc) {
+      ++outcome.arcs_compensated;
+      outcome.max_arc_fit_residual_m =
+          std::max(outcome.max_arc_fit_residual_m, c.arc->fit_residual_m);
+    }
   }
   const std::vector<toolpath::LineCorrection>& written = outcome.written;
   const std::vector<Eigen::Vector3d> expected = toolpath::corrected_ends(program, written);
   const toolpath::Program corrected =
       read_back(settings, edited.text, scratch_file, expected.size());
-  for (std::size_t m = 0; m < corrected.moves.size(); ++m) {
-    if ((corrected.moves[m].end_m - expected[m]).norm() > 1e-6)
-      throw Error(fmt::format(
-          "the compensated program's line {} ends at [{:.4f}, {:.4f}, {:.4f}] mm, not the "
-          "intended [{:.4f}, {:.4f}, {:.4f}] mm; nothing was written",
-          corrected.moves[m].line, corrected.moves[m].end_m.x() * 1e3,
-          corrected.moves[m].end_m.y() * 1e3, corrected.moves[m].end_m.z() * 1e3,
-          expected[m].x() * 1e3, expected[m].y() * 1e3, expected[m].z() * 1e3));
-  }
-
-  // The written program analysed: each wall sample's error against the
-  // programmed line it stands for, e' − (p' − p)·w' with p the nearest point
-  // of that line (the compensated moves of one line all stand for it).
+  // Which programmed move each written move stands for (a compensated
+  // line's added points and its end all stand for it).
+  std::map<std::size_t, const toolpath::LineCorrection*> correction_of;
+  for (const toolpath::LineCorrection& c : written)
+    correction_of[c.move] = &c;
   std::vector<std::size_t> original(corrected.moves.size());
   {
-    std::map<std::size_t, std::size_t> points_of;
-    for (const toolpath::LineCorrection& c : written)
-      points_of[c.move] = c.points.size();
     std::size_t w = 0;
     for (std::size_t m = 0; m < program.moves.size(); ++m) {
-      const std::size_t count = points_of.count(m) ? points_of[m] + 1 : 1;
+      const auto it = correction_of.find(m);
+      const std::size_t count = it == correction_of.end() ? 1 : it->second->points.size() + 1;
       for (std::size_t k = 0; k < count && w < original.size(); ++k)
         original[w++] = m;
     }
   }
+  for (std::size_t m = 0; m < corrected.moves.size(); ++m) {
+    const toolpath::Move& move = corrected.moves[m];
+    if ((move.end_m - expected[m]).norm() > 1e-6)
+      throw Error(fmt::format(
+          "the compensated program's line {} ends at [{:.4f}, {:.4f}, {:.4f}] mm, not the "
+          "intended [{:.4f}, {:.4f}, {:.4f}] mm; nothing was written",
+          move.line, move.end_m.x() * 1e3, move.end_m.y() * 1e3, move.end_m.z() * 1e3,
+          expected[m].x() * 1e3, expected[m].y() * 1e3, expected[m].z() * 1e3));
+    // An arc's circle where it was meant to be (its centre in its plane):
+    // moved by its correction, or as programmed.
+    const toolpath::Move& nominal = program.moves[original[m]];
+    if (move.kind != toolpath::MotionKind::arc || nominal.kind != toolpath::MotionKind::arc)
+      continue;
+    const auto it = correction_of.find(original[m]);
+    Eigen::Vector3d miss =
+        move.centre_m - nominal.centre_m -
+        (it != correction_of.end() && it->second->arc ? it->second->arc->centre_offset_m
+                                                      : Eigen::Vector3d(Eigen::Vector3d::Zero()));
+    miss -= miss.dot(nominal.normal) * nominal.normal;
+    if (miss.norm() > 1e-6)
+      throw Error(fmt::format(
+          "the compensated program's arc on line {} has its centre {:.4f} mm from the intended "
+          "one; nothing was written",
+          move.line, miss.norm() * 1e3));
+  }
+
+  // The written program analysed: each wall sample's error against the
+  // programmed move it stands for, e' − (p' − p)·w' with p the nearest point
+  // of that line, or an arc's point at the same fraction of its sweep.
   toolpath::ProgramAnalysisSettings again = analysis_settings;
   again.move_spacing_m.clear();  // the written program has moves of its own
   again.move_steps.clear();
@@ -232,7 +278,10 @@ CompensationOutcome compensate_program(const io::Job& job, const io::RobotPathSe
             continue;
           const toolpath::Move& nominal = program.moves[original[sample.move]];
           double shift = 0.0;
-          if (nominal.kind == toolpath::MotionKind::linear) {
+          if (nominal.kind == toolpath::MotionKind::arc) {
+            shift = (sample.tip_m - toolpath::position_at(nominal, sample.move_fraction))
+                        .dot(r.wall_direction);
+          } else if (nominal.kind == toolpath::MotionKind::linear) {
             const Eigen::Vector3d d = nominal.end_m - nominal.start_m;
             const double t =
                 d.squaredNorm() > 0.0

@@ -508,15 +508,17 @@ nlohmann::json improvement_json(const analysis::ProgramImprovement& im,
       message += fmt::format("  optimize: {} lines not compensated (first: line {}, {})\n",
                              c.skipped.size(), c.skipped.front().first, c.skipped.front().second);
     message += fmt::format(
-        "  optimize: {} lines compensated ({} points added); the walls' largest error -> {:.1f} "
-        "um (measured on the written program)\n",
-        c.written.size(), c.points_added, c.residual_m.max * 1e6);
+        "  optimize: {} lines compensated ({} arcs, {} points added); the walls' largest error "
+        "-> {:.1f} um (measured on the written program)\n",
+        c.written.size(), c.arcs_compensated, c.points_added, c.residual_m.max * 1e6);
     out["compensation"] = {
         {"floor", c.settings.floor},
         {"min_offset_um", c.settings.min_offset_m * 1e6},
         {"tolerance_um", c.settings.tolerance_m * 1e6},
         {"lines_compensated", c.written.size()},
         {"points_added", c.points_added},
+        {"arcs_compensated", c.arcs_compensated},
+        {"max_arc_fit_residual_um", c.max_arc_fit_residual_m * 1e6},
         {"lines_skipped", skipped},
         {"max_offset_um", c.max_offset_m * 1e6},
         {"residual_um",
@@ -534,7 +536,9 @@ nlohmann::json improvement_json(const analysis::ProgramImprovement& im,
         {"note",
          "first order: every straight line moved against its samples' predicted error (form "
          "error towards the wall; floor error along the axis with floor) at the feeds and "
-         "speeds chosen above, as a polyline within tolerance_um of it; 'after' is the program "
+         "speeds chosen above, as a polyline within tolerance_um of it; every arc's centre and "
+         "radius fitted to its samples' (max_arc_fit_residual_um: what the circle could not "
+         "follow); 'after' is the program "
          "before this step, 'compensated' and max_residual_um the written program analysed "
          "again (the residual e' - (p' - p).w against the programmed line at every wall "
          "sample)"},

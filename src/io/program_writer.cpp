@@ -485,6 +485,7 @@ void write_gcode_points(const Lines& lines, const std::map<int, const PointEdit*
   double programmed[3] = {kNotKnown, kNotKnown, kNotKnown};
   double written[3] = {kNotKnown, kNotKnown, kNotKnown};
   bool inch = false, incremental = false, cycle = false, control_flow = false;
+  bool absolute_centres = false;  // G90.1; G91.1 (rs274's default): I J K from the start
   auto differs = [&](int a) {
     return std::isfinite(written[a]) && std::isfinite(programmed[a]) &&
            std::abs(written[a] - programmed[a]) > 1e-9;
@@ -509,6 +510,7 @@ void write_gcode_points(const Lines& lines, const std::map<int, const PointEdit*
         inch = code == 200;
       }
       incremental = code == 910 ? true : code == 900 ? false : incremental;
+      absolute_centres = code == 901 ? true : code == 911 ? false : absolute_centres;
       special = special || code == 280 || code == 300 || code == 530 || code == 920 || code == 100;
       starts_cycle = starts_cycle || code == 730 || code == 760 || (code >= 810 && code <= 890);
       ends_cycle = ends_cycle || code == 800 || code == 0 || code == 10 || code == 20 || code == 30;
@@ -562,6 +564,22 @@ void write_gcode_points(const Lines& lines, const std::map<int, const PointEdit*
       for (int a = 0; a < 3 && reason.empty() && !edit->second->points.empty(); ++a)
         if (!std::isfinite(programmed[a]))
           reason = fmt::format("the line's start ({} in force) is not known", kAxes[a]);
+      if (reason.empty() && edit->second->arc) {
+        bool has_centre = false;
+        for (const GcodeWord& w : words) {
+          const bool centre_word = w.letter == 'I' || w.letter == 'J' || w.letter == 'K';
+          if (!centre_word && w.letter != 'R')
+            continue;
+          has_centre = true;
+          if (w.expression || !std::isfinite(w.value))
+            reason = fmt::format("its {} word is an expression", w.letter);
+          else if (centre_word && !absolute_centres && !std::isfinite(written[w.letter - 'I']))
+            reason =
+                fmt::format("the arc's start ({} in force) is not known", kAxes[w.letter - 'I']);
+        }
+        if (!has_centre)
+          reason = "an arc without I, J, K or R words";
+      }
       if (!reason.empty())
         result.skipped.push_back({static_cast<int>(l), reason});
     }
@@ -614,6 +632,21 @@ void write_gcode_points(const Lines& lines, const std::map<int, const PointEdit*
         rewrite = true;
       }
     }
+    // An arc moved: I J K from the start as written (or absolute), R the
+    // moved radius, in the units in force.
+    const bool arc_edit = edit != edits.end() && reason.empty() && edit->second->arc;
+    auto centre_word = [&](const GcodeWord& w) -> std::optional<double> {
+      if (!arc_edit)
+        return std::nullopt;
+      const double unit = inch ? 25.4e-3 : 1e-3;
+      if (w.letter == 'R')
+        return w.value + std::copysign(edit->second->arc->radius_change_m / unit, w.value);
+      if (w.letter < 'I' || w.letter > 'K')
+        return std::nullopt;
+      const int a = w.letter - 'I';
+      const double moved = edit->second->arc->centre_offset_m[a] / unit;
+      return absolute_centres ? w.value + moved : w.value + programmed[a] - written[a] + moved;
+    };
     if (rewrite) {
       std::string line;
       std::size_t copied = 0;
@@ -622,10 +655,12 @@ void write_gcode_points(const Lines& lines, const std::map<int, const PointEdit*
         for (int k = 0; k < 3; ++k)
           if (&w == explicit_word[k] && write_axis[k])
             a = k;
-        if (a < 0)
+        const std::optional<double> centre = centre_word(w);
+        if (a < 0 && !centre)
           continue;
         line.append(body.substr(copied, w.begin - copied));
-        line += kAxes[a] + coordinate(word_value[a], inch);
+        line += a >= 0 ? kAxes[a] + coordinate(word_value[a], inch)
+                       : w.letter + coordinate(*centre, inch);
         copied = w.end;
       }
       line.append(body.substr(copied, code_end - copied));
@@ -667,6 +702,13 @@ void write_apt_points(std::string_view text, const Lines& lines,
   std::optional<Eigen::Matrix3d> to_frame = Eigen::Matrix3d::Identity();
   std::optional<Eigen::Vector3d> last_point;  // the last GOTO's x, y, z as written
   bool last_record_was_goto = false;
+  // The numbers of a CIRCLE record over its '$' lines (line, span, value),
+  // waiting for the GOTO that ends its arc; empty where one is not a number.
+  struct Number {
+    std::size_t line = 0, begin = 0, end = 0;
+    double value = 0.0;
+  };
+  std::optional<std::vector<Number>> pending_circle, circle;
   for (std::size_t l = 1; l < lines.body.size(); ++l) {
     const std::string_view body = lines.body[l];
     const std::size_t comment = body.find("$$");
@@ -724,6 +766,38 @@ void write_apt_points(std::string_view text, const Lines& lines,
     }
     if (starts_with_word(upper, "CYCLE"))
       cycle = upper.find("OFF") == std::string::npos;
+    if (starts_with_word(upper, "CIRCLE")) {
+      std::vector<Number> numbers;
+      for (std::size_t k = l; k < lines.body.size(); ++k) {
+        const std::string_view text_k = lines.body[k];
+        const std::size_t comment_k = text_k.find("$$");
+        std::size_t stop_k = comment_k == std::string_view::npos ? text_k.size() : comment_k;
+        std::size_t position = k == l ? text_k.find('/') + 1 : 0;
+        const std::string_view code_k = trimmed(text_k.substr(0, stop_k));
+        const bool continued = !code_k.empty() && code_k.back() == '$';
+        if (continued)
+          stop_k = static_cast<std::size_t>(code_k.data() - text_k.data()) + code_k.size() - 1;
+        while (position < stop_k) {
+          std::size_t comma = text_k.find(',', position);
+          if (comma == std::string_view::npos || comma > stop_k)
+            comma = stop_k;
+          const std::string_view token = trimmed(text_k.substr(position, comma - position));
+          double value = 0.0;
+          const auto [end, error] =
+              std::from_chars(token.data(), token.data() + token.size(), value);
+          if (!token.empty()) {
+            if (error != std::errc() || end != token.data() + token.size())
+              break;
+            const std::size_t at = static_cast<std::size_t>(token.data() - text_k.data());
+            numbers.push_back({k, at, at + token.size(), value});
+          }
+          position = comma + 1;
+        }
+        if (!continued)
+          break;
+      }
+      pending_circle = numbers.size() >= 7 ? std::optional(numbers) : std::nullopt;
+    }
     // A GOTO's point: x, y, z after GOTO/ on the record's line, or from the
     // start of a further point's line in a GOTO record.
     const int record = l < starts.size() ? starts[l] : static_cast<int>(l);
@@ -732,6 +806,12 @@ void write_apt_points(std::string_view text, const Lines& lines,
         starts_with_word(upper, "GOTO") || (!record_line && last_record_was_goto && !code.empty());
     if (record_line)
       last_record_was_goto = starts_with_word(upper, "GOTO");
+    if (record_line && starts_with_word(upper, "GOTO")) {
+      circle = std::move(pending_circle);
+      pending_circle.reset();
+    } else if (record_line && !code.empty()) {
+      circle.reset();
+    }
     std::vector<std::pair<std::size_t, std::size_t>> spans;  // [begin, end) of x, y, z
     std::vector<double> values;
     const std::size_t code_begin = static_cast<std::size_t>(code.data() - body.data());
@@ -776,6 +856,11 @@ void write_apt_points(std::string_view text, const Lines& lines,
       reason =
           "points cannot be added before a GOTO that is not a record of its own with three "
           "coordinates";
+    else if (edit->second->arc && (!record_line || !circle || code.back() == '$' ||
+                                   (l + 1 < starts.size() && starts[l + 1] == static_cast<int>(l))))
+      reason =
+          "the arc's CIRCLE record is not numbers, or serves further points (arc pieces) after "
+          "this GOTO";
     if (!reason.empty()) {
       result.skipped.push_back({static_cast<int>(l), reason});
       continue;
@@ -799,6 +884,15 @@ void write_apt_points(std::string_view text, const Lines& lines,
     line.append(body.substr(copied));
     out[l] = std::move(line);
     before[static_cast<std::size_t>(record)] += inserted;
+    if (edit->second->arc) {  // the CIRCLE's centre and radius, last span first
+      const Eigen::Vector3d centre = *to_frame * edit->second->arc->centre_offset_m / unit;
+      for (int k : {6, 2, 1, 0}) {
+        const Number& n = (*circle)[static_cast<std::size_t>(k)];
+        const double value =
+            n.value + (k == 6 ? edit->second->arc->radius_change_m / unit : centre[k]);
+        out[n.line].replace(n.begin, n.end - n.begin, coordinate(value, inch));
+      }
+    }
   }
 }
 

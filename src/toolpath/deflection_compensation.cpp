@@ -2,6 +2,8 @@
 
 #include "robomill/toolpath/deflection_compensation.hpp"
 
+#include <Eigen/Cholesky>
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -76,6 +78,162 @@ Eigen::Vector3d combined(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   return alpha * ua + beta * ub;
 }
 
+// The in-plane unit radial r̂ of an arc at the fraction u.
+Eigen::Vector3d radial_at(const Move& arc, double u) {
+  Eigen::Vector3d r = position_at(arc, u) - arc.centre_m;
+  r -= r.dot(arc.normal) * arc.normal;
+  return r.normalized();
+}
+
+// An arc moved: its centre by Δc, its radius by δ, where it starts and ends
+// on the moved circle (offsets from the programmed points), and how far the
+// moved arc's correction departs from the samples' (at u_k = k / (n − 1)).
+struct ArcFit {
+  Eigen::Vector3d centre_offset_m = Eigen::Vector3d::Zero();
+  double radius_change_m = 0.0;
+  Eigen::Vector3d start_offset_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d end_offset_m = Eigen::Vector3d::Zero();
+  double residual_m = 0.0;
+};
+
+// A small ridge on Δc: over a short sweep r̂ hardly turns, Δc and δ r̂ say
+// the same thing, and the radius is the physical reading of a wall error.
+constexpr double kCentreRidge = 1e-3;
+
+// The least-squares fit of p'(u) − p(u) = Δc + δ r̂(u) to the corrections
+// c_k. With `start` (the offset the path arrives with, which the arc must
+// keep) only Δc is free and the radius is the distance from the moved
+// centre to that start. Either way the moved circle is then built exactly:
+// centre c + Δc, radius the in-plane distance from it to the moved start,
+// the programmed sweep from there, the helix's rise kept.
+ArcFit fit_arc(const Move& arc, const std::vector<Eigen::Vector3d>& c,
+               const std::optional<Eigen::Vector3d>& start) {
+  const std::size_t n = c.size();
+  auto u_of = [&](std::size_t k) {
+    return n > 1 ? static_cast<double>(k) / static_cast<double>(n - 1) : 0.0;
+  };
+  const double ridge = kCentreRidge * static_cast<double>(std::max<std::size_t>(n, 1));
+  const Eigen::Vector3d rs = radial_at(arc, 0.0);
+  ArcFit fit;
+  if (!start) {
+    Eigen::Matrix4d normal_matrix = Eigen::Matrix4d::Zero();
+    Eigen::Vector4d rhs = Eigen::Vector4d::Zero();
+    for (std::size_t k = 0; k < n; ++k) {
+      Eigen::Matrix<double, 3, 4> a;
+      a << Eigen::Matrix3d::Identity(), radial_at(arc, u_of(k));
+      normal_matrix += a.transpose() * a;
+      rhs += a.transpose() * c[k];
+    }
+    normal_matrix.topLeftCorner<3, 3>() += ridge * Eigen::Matrix3d::Identity();
+    const Eigen::Vector4d x = normal_matrix.ldlt().solve(rhs);
+    fit.centre_offset_m = x.head<3>();
+    fit.start_offset_m = x.head<3>() + x[3] * rs;
+  } else {
+    // The moved arc keeps the programmed sweep from the moved start, so
+    // with P the projection on the plane, R_u the turn by u × sweep and
+    // h = the normal, p'(u) − p(u) = P Δc + R_u P (start − Δc) + h (start·h
+    // + u (Δc − start)·h): linear in Δc, and exactly what is built below.
+    const Eigen::Matrix3d plane = Eigen::Matrix3d::Identity() - arc.normal * arc.normal.transpose();
+    const Eigen::Matrix3d along = arc.normal * arc.normal.transpose();
+    Eigen::Matrix3d normal_matrix = ridge * Eigen::Matrix3d::Identity();
+    Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+    for (std::size_t k = 0; k < n; ++k) {
+      const double u = u_of(k);
+      const Eigen::Matrix3d turn =
+          Eigen::AngleAxisd(u * arc.sweep_rad, arc.normal).toRotationMatrix();
+      const Eigen::Matrix3d b = plane - turn * plane + u * along;
+      const Eigen::Vector3d fixed = turn * plane * *start + (1.0 - u) * along * *start;
+      normal_matrix += b.transpose() * b;
+      rhs += b.transpose() * (c[k] - fixed);
+    }
+    fit.centre_offset_m = normal_matrix.ldlt().solve(rhs);
+    fit.start_offset_m = *start;
+  }
+  // The moved circle: centre, radius and start direction in the arc's plane.
+  const Eigen::Vector3d& normal = arc.normal;
+  auto in_plane = [&](const Eigen::Vector3d& v) -> Eigen::Vector3d {
+    return v - v.dot(normal) * normal;
+  };
+  const Eigen::Vector3d centre = arc.centre_m + fit.centre_offset_m;
+  const Eigen::Vector3d moved_start = arc.start_m + fit.start_offset_m;
+  const Eigen::Vector3d from_centre = in_plane(moved_start - centre);
+  const double radius = from_centre.norm();
+  fit.radius_change_m = radius - in_plane(arc.start_m - arc.centre_m).norm();
+  const Eigen::Vector3d start_direction = radius > 0.0 ? Eigen::Vector3d(from_centre / radius) : rs;
+  // Along the normal: from the moved start's height, rising as programmed
+  // plus what the centre's and the start's offsets differ by.
+  const double rise = (arc.end_m - arc.start_m).dot(normal) +
+                      (fit.centre_offset_m - fit.start_offset_m).dot(normal);
+  auto moved_at = [&](double u) -> Eigen::Vector3d {
+    return in_plane(centre) +
+           radius * (Eigen::AngleAxisd(u * arc.sweep_rad, normal) * start_direction) +
+           (moved_start.dot(normal) + u * rise) * normal;
+  };
+  fit.end_offset_m = moved_at(1.0) - arc.end_m;
+  for (std::size_t k = 0; k < n; ++k)
+    fit.residual_m =
+        std::max(fit.residual_m, (moved_at(u_of(k)) - position_at(arc, u_of(k)) - c[k]).norm());
+  return fit;
+}
+
+// What each move may become (PathCorrections::corrections and kept).
+struct Roles {
+  const Program& program;
+  const std::vector<std::vector<Eigen::Vector3d>>& samples;
+  const std::set<int>& keep;
+  double min_offset_m;
+  std::size_t moves;
+  std::map<int, int> moves_on_line;
+
+  Roles(const Program& p, const std::vector<std::vector<Eigen::Vector3d>>& s,
+        const std::set<int>& k, double min_offset)
+      : program(p),
+        samples(s),
+        keep(k),
+        min_offset_m(min_offset),
+        moves(std::min(p.moves.size(), s.size())) {
+    for (const Move& move : program.moves)
+      ++moves_on_line[move.line];
+  }
+  bool alone(std::size_t m) const {
+    return moves_on_line.at(program.moves[m].line) == 1 && !keep.count(program.moves[m].line);
+  }
+  double largest(std::size_t m) const {
+    double out = 0.0;
+    for (const Eigen::Vector3d& v : samples[m])
+      out = std::max(out, v.norm());
+    return out;
+  }
+  // An arc whose circle can be rewritten.
+  bool arc_editable(std::size_t m) const {
+    return m < moves && program.moves[m].kind == MotionKind::arc && alone(m);
+  }
+  // An arc with an error of its own to correct: its free fit pins the end of
+  // the straight line before it.
+  bool arc_corrected(std::size_t m) const {
+    return arc_editable(m) && samples[m].size() >= 2 && largest(m) >= min_offset_m;
+  }
+  // The next move that moves (dwells stay where the path is).
+  std::size_t next(std::size_t m) const {
+    std::size_t k = m + 1;
+    while (k < moves && program.moves[k].kind == MotionKind::dwell)
+      ++k;
+    return k;
+  }
+  // A straight line whose points may move: not before an arc that must stay
+  // (its centre is programmed from its start).
+  bool line_editable(std::size_t m) const {
+    if (program.moves[m].kind != MotionKind::linear || !alone(m) || samples[m].size() < 2)
+      return false;
+    const std::size_t k = next(m);
+    return k >= moves || program.moves[k].kind != MotionKind::arc || arc_editable(k);
+  }
+  bool pins_arc(std::size_t m) const { return m + 1 < moves && arc_corrected(m + 1); }
+  bool line_corrected(std::size_t m) const {
+    return line_editable(m) && (largest(m) >= min_offset_m || pins_arc(m));
+  }
+};
+
 }  // namespace
 
 std::optional<Eigen::Vector3d> sample_correction(const PathSample& sample, const RobotSample& robot,
@@ -105,37 +263,50 @@ void PathCorrections::add(const PathSample& sample, const RobotSample& robot) {
         sample_correction(sample, robot, settings_).value_or(Eigen::Vector3d::Zero()));
 }
 
-std::vector<LineCorrection> PathCorrections::corrections(const Program& program) const {
-  std::map<int, int> moves_on_line;
-  for (const Move& move : program.moves)
-    ++moves_on_line[move.line];
-  const std::size_t moves = std::min(program.moves.size(), samples_.size());
-  auto eligible = [&](std::size_t m) {
-    const Move& move = program.moves[m];
-    const bool before_arc = m + 1 < moves && program.moves[m + 1].kind == MotionKind::arc;
-    if (move.kind != MotionKind::linear || moves_on_line[move.line] != 1 || before_arc ||
-        samples_[m].size() < 2)
-      return false;
-    double largest = 0.0;
-    for (const Eigen::Vector3d& v : samples_[m])
-      largest = std::max(largest, v.norm());
-    return largest >= settings_.min_offset_m;
-  };
+std::vector<LineCorrection> PathCorrections::corrections(const Program& program,
+                                                         const std::set<int>& keep) const {
+  const Roles roles(program, samples_, keep, settings_.min_offset_m);
+  const std::size_t moves = roles.moves;
   std::vector<LineCorrection> out;
   Eigen::Vector3d written_end = Eigen::Vector3d::Zero();  // the offset the path ends at so far
+  bool start_pinned = false;  // the line before this arc was written to end on its free fit
   for (std::size_t m = 0; m < moves; ++m) {
     const Move& move = program.moves[m];
-    std::vector<Eigen::Vector3d> c = median5(samples_[m]);
+    const std::vector<Eigen::Vector3d> c = median5(samples_[m]);
     const Eigen::Vector3d start = written_end;
+    const bool pinned = start_pinned;
+    start_pinned = false;
     if (move.kind != MotionKind::dwell)  // a dwell stays where the path ended
       written_end = Eigen::Vector3d::Zero();
-    if (!eligible(m))
+    if (move.kind == MotionKind::arc) {
+      const bool moved_start = start.squaredNorm() > 0.0;
+      if (!roles.arc_corrected(m) && !(roles.arc_editable(m) && moved_start))
+        continue;
+      const ArcFit fit =
+          fit_arc(move, c, pinned ? std::nullopt : std::optional<Eigen::Vector3d>(start));
+      LineCorrection arc;
+      arc.move = m;
+      arc.line = move.line;
+      arc.offset_m = fit.end_offset_m;
+      arc.arc = ArcCorrection{fit.centre_offset_m, fit.radius_change_m, fit.residual_m};
+      out.push_back(std::move(arc));
+      written_end = fit.end_offset_m;
       continue;
-    // A corner: the next line starts here and finishes a wall of its own.
-    if (m + 1 < moves && eligible(m + 1))
-      c.back() = combined(c.back(), median5(samples_[m + 1]).front());
+    }
+    if (!roles.line_corrected(m))
+      continue;
+    std::vector<Eigen::Vector3d> ends = c;
+    if (roles.pins_arc(m)) {  // the moved arc starts here
+      ends.back() =
+          fit_arc(program.moves[m + 1], median5(samples_[m + 1]), std::nullopt).start_offset_m;
+      start_pinned = true;
+    } else if (m + 1 < moves && program.moves[m + 1].kind == MotionKind::linear &&
+               roles.line_corrected(m + 1)) {
+      // A corner: the next line starts here and finishes a wall of its own.
+      ends.back() = combined(ends.back(), median5(samples_[m + 1]).front());
+    }
     std::vector<std::size_t> kept;
-    simplify(c, start, 0, c.size() - 1, settings_.tolerance_m, kept);
+    simplify(ends, start, 0, ends.size() - 1, settings_.tolerance_m, kept);
     if (kept.size() > static_cast<std::size_t>(settings_.max_points)) {  // evenly thinned
       std::vector<std::size_t> thinned;
       for (int i = 0; i < settings_.max_points; ++i)
@@ -145,36 +316,34 @@ std::vector<LineCorrection> PathCorrections::corrections(const Program& program)
     LineCorrection line;
     line.move = m;
     line.line = move.line;
-    line.offset_m = c.back();
+    line.offset_m = ends.back();
     for (const std::size_t k : kept)
-      line.points.push_back({static_cast<double>(k) / static_cast<double>(c.size() - 1), c[k]});
+      line.points.push_back(
+          {static_cast<double>(k) / static_cast<double>(ends.size() - 1), ends[k]});
     out.push_back(std::move(line));
-    written_end = c.back();
+    written_end = ends.back();
   }
   return out;
 }
 
-std::vector<PathCorrections::Kept> PathCorrections::kept(const Program& program) const {
-  std::map<int, int> moves_on_line;
-  for (const Move& move : program.moves)
-    ++moves_on_line[move.line];
-  const std::size_t moves = std::min(program.moves.size(), samples_.size());
+std::vector<PathCorrections::Kept> PathCorrections::kept(const Program& program,
+                                                         const std::set<int>& keep) const {
+  const Roles roles(program, samples_, keep, settings_.min_offset_m);
   std::vector<Kept> out;
-  for (std::size_t m = 0; m < moves; ++m) {
+  for (std::size_t m = 0; m < roles.moves; ++m) {
     const Move& move = program.moves[m];
     if (move.kind != MotionKind::linear && move.kind != MotionKind::arc)
       continue;
-    double largest = 0.0;
-    for (const Eigen::Vector3d& v : samples_[m])
-      largest = std::max(largest, v.norm());
-    if (largest < settings_.min_offset_m || (!out.empty() && out.back().line == move.line))
+    if (roles.largest(m) < settings_.min_offset_m || keep.count(move.line) ||
+        (!out.empty() && out.back().line == move.line))
       continue;
-    if (move.kind == MotionKind::arc)
-      out.push_back({move.line, "an arc: kept as programmed"});
-    else if (moves_on_line[move.line] != 1)
-      out.push_back({move.line, "one of several moves on its line (a loop or a cycle)"});
-    else if (m + 1 < moves && program.moves[m + 1].kind == MotionKind::arc)
-      out.push_back({move.line, "before an arc, whose centre is programmed from its start"});
+    if (roles.moves_on_line.at(move.line) != 1)
+      out.push_back(
+          {move.line, "one of several moves on its line (a loop, a cycle, an arc in pieces)"});
+    else if (move.kind == MotionKind::linear && !roles.line_editable(m))
+      out.push_back({move.line,
+                     "before an arc that stays as programmed, whose centre is programmed from "
+                     "its start"});
   }
   return out;
 }

@@ -374,8 +374,8 @@ void check(const std::string& name, const std::string& text, ToolpathSettings::F
     if (move.kind != toolpath::MotionKind::linear || moves_on_line[move.line] != 1 || before_arc ||
         k++ % 2 != 0)
       continue;
-    PointEdit edit{move.line, offset, {}, "robomill: test"};
-    toolpath::LineCorrection correction{m, move.line, offset, {}};
+    PointEdit edit{move.line, offset, {}, "robomill: test", std::nullopt};
+    toolpath::LineCorrection correction{m, move.line, offset, {}, std::nullopt};
     if (k % 4 == 1) {  // every other edit adds two points inside its line
       edit.points = {{0.25, Eigen::Vector3d(-15e-6, 5e-6, 0.0)}, {0.6, offset}};
       correction.points = {{0.25, edit.points[0].offset_m}, {0.6, offset}};
@@ -434,11 +434,149 @@ TEST(ProgramWriter, MovedPointsOfTheReaderCorpusRoundTrip) {
             << " added, " << apt.skipped << " skipped)\n";
   // KRL is refused by name.
   try {
-    (void)write_point_edits("DEF t( )\nEND\n", ToolpathSettings::Format::krl, {{1, {}, {}, ""}});
+    (void)write_point_edits("DEF t( )\nEND\n", ToolpathSettings::Format::krl, {{1, {}, {}, "", std::nullopt}});
     ADD_FAILURE() << "KRL point edits must be refused";
   } catch (const InputError& error) {
     EXPECT_EQ(error.field(), "toolpath.format");
   }
+}
+
+}  // namespace
+}  // namespace robomill::io
+
+namespace robomill::io {
+namespace {
+
+// An arc's compensation written (PointEdit::arc) on the same corpus: for
+// every other arc alone on its line after a straight feed line alone on its
+// (and not followed by another arc), the circle's centre moved by
+// (12, −8, 5) µm projected on its plane and its radius grown by 25 µm, the
+// line before ending on the moved circle (Δc + δ r̂ at the start). Read back:
+// every move ends where the corrected path does, every arc's centre lies
+// where it was meant to (moved, or as programmed), to the 0.1 µm written.
+// Pairs the writer skips (named with a reason) are dropped and the rest
+// written again, as the command does.
+namespace arcs {
+
+struct Checked {
+  int programs = 0, arcs = 0, skipped = 0;
+};
+
+void check(const std::string& name, const std::string& text, ToolpathSettings::Format format,
+           const std::function<toolpath::Program(const std::string&)>& read, Checked& checked) {
+  const std::optional<toolpath::Program> program = corpus::readable(read, text);
+  if (!program)
+    return;
+  const toolpath::Program& before = *program;
+  std::map<int, int> moves_on_line;
+  for (const toolpath::Move& move : before.moves)
+    ++moves_on_line[move.line];
+  auto alone = [&](std::size_t m) { return moves_on_line[before.moves[m].line] == 1; };
+  struct Pair {
+    toolpath::LineCorrection line, arc;
+  };
+  std::vector<Pair> pairs;
+  int k = 0;
+  for (std::size_t m = 1; m + 1 <= before.moves.size(); ++m) {
+    const toolpath::Move& arc = before.moves[m];
+    const toolpath::Move& line = before.moves[m - 1];
+    const bool next_arc =
+        m + 1 < before.moves.size() && before.moves[m + 1].kind == toolpath::MotionKind::arc;
+    if (arc.kind != toolpath::MotionKind::arc || line.kind != toolpath::MotionKind::linear ||
+        !alone(m) || !alone(m - 1) || next_arc || k++ % 2 != 0)
+      continue;
+    Eigen::Vector3d centre_offset(12e-6, -8e-6, 5e-6);
+    centre_offset -= centre_offset.dot(arc.normal) * arc.normal;
+    const double radius_change = 25e-6;
+    auto radial = [&](const Eigen::Vector3d& p) {
+      Eigen::Vector3d r = p - arc.centre_m;
+      return Eigen::Vector3d(r - r.dot(arc.normal) * arc.normal).normalized();
+    };
+    Pair pair;
+    pair.line = {m - 1, line.line, centre_offset + radius_change * radial(arc.start_m), {}, {}};
+    pair.arc = {m,
+                arc.line,
+                centre_offset + radius_change * radial(arc.end_m),
+                {},
+                toolpath::ArcCorrection{centre_offset, radius_change, 0.0}};
+    pairs.push_back(pair);
+  }
+  if (pairs.empty())
+    return;
+  PointEditResult written;
+  for (;;) {
+    std::vector<PointEdit> edits;
+    for (const Pair& p : pairs) {
+      edits.push_back({p.line.line, p.line.offset_m, {}, "robomill: test", std::nullopt});
+      edits.push_back({p.arc.line,
+                       p.arc.offset_m,
+                       {},
+                       "robomill: test arc",
+                       PointEdit::Arc{p.arc.arc->centre_offset_m, p.arc.arc->radius_change_m}});
+    }
+    written = write_point_edits(text, format, edits);
+    if (written.skipped.empty())
+      break;
+    for (const auto& skipped : written.skipped) {
+      EXPECT_FALSE(skipped.reason.empty());
+      ++checked.skipped;
+      std::erase_if(pairs, [&](const Pair& p) {
+        return p.line.line == skipped.line || p.arc.line == skipped.line;
+      });
+    }
+  }
+  if (pairs.empty())
+    return;
+  std::vector<toolpath::LineCorrection> corrections;
+  std::map<std::size_t, Eigen::Vector3d> centre_offset;  // by move
+  for (const Pair& p : pairs) {
+    corrections.push_back(p.line);
+    corrections.push_back(p.arc);
+    centre_offset[p.arc.move] = p.arc.arc->centre_offset_m;
+  }
+  toolpath::Program after;
+  try {
+    after = read(written.text);
+  } catch (const InputError& error) {
+    ADD_FAILURE() << name << ": the written program does not read back: " << error.what() << "\n"
+                  << written.text;
+    return;
+  }
+  const std::vector<Eigen::Vector3d> expected = toolpath::corrected_ends(before, corrections);
+  ASSERT_EQ(after.moves.size(), expected.size()) << name << "\n" << written.text;
+  for (std::size_t m = 0; m < after.moves.size(); ++m) {
+    EXPECT_LT((after.moves[m].end_m - expected[m]).norm(), 1e-6)
+        << name << ": written move " << m << " (line " << after.moves[m].line << ")";
+    const toolpath::Move& was = before.moves[m];
+    if (was.kind != toolpath::MotionKind::arc)
+      continue;
+    ASSERT_EQ(after.moves[m].kind, toolpath::MotionKind::arc) << name << " move " << m;
+    const auto it = centre_offset.find(m);
+    Eigen::Vector3d miss =
+        after.moves[m].centre_m - was.centre_m -
+        (it == centre_offset.end() ? Eigen::Vector3d(Eigen::Vector3d::Zero()) : it->second);
+    miss -= miss.dot(was.normal) * was.normal;
+    EXPECT_LT(miss.norm(), 1e-6) << name << ": arc on line " << was.line << "\n" << written.text;
+    EXPECT_NEAR(after.moves[m].sweep_rad, was.sweep_rad, 1e-3) << name << " line " << was.line;
+  }
+  ++checked.programs;
+  checked.arcs += static_cast<int>(pairs.size());
+}
+
+}  // namespace arcs
+
+TEST(ProgramWriter, MovedArcsOfTheReaderCorpusRoundTrip) {
+  arcs::Checked gcode, apt;
+  corpus::for_each_gcode_and_apt(
+      [&](const std::string& name, const std::string& text, ToolpathSettings::Format format,
+          const corpus::Reader& read,
+          bool is_gcode) { arcs::check(name, text, format, read, is_gcode ? gcode : apt); });
+  std::cout << "moved arcs: " << gcode.programs << " G-code programs (" << gcode.arcs << " arcs, "
+            << gcode.skipped << " skipped), " << apt.programs << " APT (" << apt.arcs << ", "
+            << apt.skipped << " skipped)\n";
+  EXPECT_GE(gcode.programs, 5);
+  EXPECT_GT(gcode.arcs, 5 * gcode.skipped);
+  EXPECT_GE(apt.programs, 1);
 }
 
 }  // namespace

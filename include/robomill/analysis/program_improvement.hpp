@@ -113,6 +113,8 @@ struct CompensationOutcome {
   std::vector<std::pair<int, std::string>> skipped;  ///< line, reason (ascending lines)
   std::size_t points_added = 0;
   double max_offset_m = 0.0;
+  std::size_t arcs_compensated = 0;     ///< arcs whose circle moved
+  double max_arc_fit_residual_m = 0.0;  ///< the largest ArcCorrection::fit_residual_m
   /// |e' − (p' − p)·w'| at every wall sample of the compensated program, and
   /// |e| at the walls before it.
   Percentiles residual_m, before_m;

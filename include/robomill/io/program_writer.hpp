@@ -5,6 +5,7 @@
 // rescaled, each with a comment that names the change, everything else byte
 // for byte as the CAM post wrote it.
 
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -88,6 +89,14 @@ struct PointEdit {
   };
   std::vector<Via> points;
   std::string comment;
+  /// An arc's circle moved (the program's own frame, SI): its centre by
+  /// centre_offset_m, its radius by radius_change_m. The arc starts where the
+  /// line before was written to end, which must lie on the moved circle.
+  struct Arc {
+    Eigen::Vector3d centre_offset_m = Eigen::Vector3d::Zero();
+    double radius_change_m = 0.0;
+  };
+  std::optional<Arc> arc;
 };
 
 /// The program with its point edits, and the edits it could not make.
@@ -107,16 +116,20 @@ struct PointEditResult {
 ///    the line's X, Y, Z words replaced by the moved
 ///    values in the units in force (4 decimals in mm, 5 in inch), an axis the
 ///    line leaves modal appended with the value in force plus its offset,
-///    `(comment)` added. A later line that moves on with a modal axis the
+///    `(comment)` added. An arc's I, J, K give the moved centre from the
+///    start as written (G91.1; G90.1: the moved centre), its R the moved
+///    radius. A later line that moves on with a modal axis the
 ///    edit changed gets that axis's programmed value back, so every other
 ///    point stays where it was. Skipped (with the reason): G91 incremental
 ///    lines, words written as expressions, a canned cycle in force, an axis
 ///    whose value in force is unknown (after G28/G30/G53 or a cycle).
 ///  - APT: the GOTO's x, y, z on that line rewritten, each added point a
-///    `GOTO/x,y,z` before it; `$$ comment` before the record. Skipped inside
-///    a frame robomill does not read or a CYCLE, where the line holds fewer
-///    than three coordinates, and with added points where the GOTO is not a
-///    record of its own with three coordinates.
+///    `GOTO/x,y,z` before it; `$$ comment` before the record. An arc's
+///    CIRCLE record gets the moved centre and radius. Skipped inside a frame
+///    robomill does not read or a CYCLE, where the line holds fewer than
+///    three coordinates, with added points where the GOTO is not a record of
+///    its own with three coordinates, and for an arc whose CIRCLE serves
+///    further points (arc pieces) or is not written as numbers.
 ///  - KRL: InputError naming `toolpath.format` (its points live in the .dat
 ///    and FOR loops run them several times).
 PointEditResult write_point_edits(std::string_view text, ToolpathSettings::Format format,

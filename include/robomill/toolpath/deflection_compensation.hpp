@@ -12,14 +12,27 @@
 // the engagement changes where the tool enters a wall), so a line becomes a
 // polyline through points where the correction, interpolated linearly
 // between them, stays within a tolerance of every sample's (Douglas-Peucker
-// on the samples' corrections). The cut on the moved path is a little
-// deeper and its force a little larger: the command runs the whole analysis
-// again on the written program and reports the residual against the path the
-// CAM wrote, measured, not assumed.
+// on the samples' corrections).
+//
+// An arc stays an arc: its centre moves by Δc and its radius changes by δ,
+// p'(θ) = p(θ) + Δc + δ r̂(θ), the least-squares fit of that to the samples'
+// corrections (a wall error that is the same all round is δ; one that keeps
+// its direction in the cell is Δc). The line before the arc is written to
+// end where the moved arc starts; where nothing before it can move (a rapid,
+// another arc) the arc starts where the path arrives and only Δc is fitted,
+// the radius following from that start. The fit's largest departure from the
+// samples' corrections is reported: an error that changes along the arc more
+// than a circle can follow stays in the residual.
+//
+// The cut on the moved path is a little deeper and its force a little
+// larger: the command runs the whole analysis again on the written program
+// and reports the residual against the path the CAM wrote, measured, not
+// assumed.
 
 #include <Eigen/Core>
 #include <cstddef>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -49,13 +62,24 @@ struct CorrectionPoint {
   Eigen::Vector3d offset_m = Eigen::Vector3d::Zero();  ///< workpiece frame
 };
 
+/// An arc's correction: the circle's centre moved and its radius changed.
+struct ArcCorrection {
+  Eigen::Vector3d centre_offset_m = Eigen::Vector3d::Zero();  ///< Δc, workpiece frame
+  double radius_change_m = 0.0;                               ///< δ: R' = R + δ
+  /// The largest distance between the moved arc's correction Δc + δ r̂ (at
+  /// the samples' angles) and the samples' own: what the circle could not
+  /// follow.
+  double fit_residual_m = 0.0;
+};
+
 /// One program line's correction: its end point's offset and the points
-/// added before it (u ascending, inside (0, 1)).
+/// added before it (u ascending, inside (0, 1)); an arc's circle moved.
 struct LineCorrection {
   std::size_t move = 0;
   int line = 0;
   Eigen::Vector3d offset_m = Eigen::Vector3d::Zero();  ///< the end point's, workpiece frame
-  std::vector<CorrectionPoint> points;
+  std::vector<CorrectionPoint> points;                 ///< lines only
+  std::optional<ArcCorrection> arc;                    ///< arcs only
 };
 
 /// Collects, in program order, every sample's correction move by move.
@@ -67,21 +91,26 @@ class PathCorrections {
   /// u = k / steps, k = 0 … steps).
   void add(const PathSample& sample, const RobotSample& robot);
 
-  /// The lines to write: straight feed moves alone on their program line
-  /// with a correction of at least `min_offset_m` somewhere, except a move
-  /// followed by an arc (its centre is programmed relative to the start, so
-  /// a moved start would bend the arc). A line starts where the line before
-  /// was written to end (moved or not).
-  std::vector<LineCorrection> corrections(const Program& program) const;
+  /// The lines to write: straight feed moves and arcs alone on their
+  /// program line with a correction of at least `min_offset_m` somewhere;
+  /// the straight line before such an arc, to end where the moved arc
+  /// starts; an arc that starts where the line before was moved to end (its
+  /// centre is programmed from its start). A line starts where the line
+  /// before was written to end (moved or not). Lines in `keep` (those the
+  /// writer could not edit) stay as programmed, and so does a line before an
+  /// arc that stays.
+  std::vector<LineCorrection> corrections(const Program& program,
+                                          const std::set<int>& keep = {}) const;
 
   /// The lines with a correction of at least `min_offset_m` that
-  /// corrections() leaves as programmed, and why: an arc, a line before an
-  /// arc, a line of several moves (a KRL loop, a canned cycle).
+  /// corrections() leaves as programmed, and why: a line of several moves (a
+  /// KRL loop, a canned cycle, an arc in pieces), a line before an arc that
+  /// stays, a line in `keep`.
   struct Kept {
     int line = 0;
     std::string reason;
   };
-  std::vector<Kept> kept(const Program& program) const;
+  std::vector<Kept> kept(const Program& program, const std::set<int>& keep = {}) const;
 
  private:
   CompensationSettings settings_;
@@ -90,7 +119,8 @@ class PathCorrections {
 
 /// The corrected path's point at which a written move ends, for checks:
 /// every move of `program` with its line's correction applied, a corrected
-/// line as its points then its end (workpiece frame).
+/// line as its points then its end (workpiece frame). An arc's centre moves
+/// by its ArcCorrection's centre_offset_m.
 std::vector<Eigen::Vector3d> corrected_ends(const Program& program,
                                             const std::vector<LineCorrection>& corrections);
 
