@@ -106,6 +106,102 @@ std::vector<io::FeedEdit> feed_edits(const toolpath::Program& program,
   return io::with_feed_restores(program, std::move(changed));
 }
 
+// A KRL program's frames turned for a schedule ψ(s), and the turn each move
+// then ends at (what the written program runs).
+struct FrameTurns {
+  std::map<toolpath::FrameSite, io::KrlFrameEdit> edits;
+  std::vector<double> end_turn_rad;  ///< per move
+  /// (start, end) turn of every move: the schedule where it cuts.
+  std::vector<std::pair<double, double>> by_move() const {
+    std::vector<std::pair<double, double>> out(end_turn_rad.size());
+    for (std::size_t m = 0; m < out.size(); ++m)
+      out[m] = {m == 0 ? first_turn_rad : end_turn_rad[m - 1], end_turn_rad[m]};
+    return out;
+  }
+  double first_turn_rad = 0.0;
+};
+
+// Each KRL frame's turn for a schedule ψ(s) (`by_move`: the turn at the
+// start and the end of every move). Where it matters — the frames the cut
+// lines end at and the frame before each (its start) — a frame takes the
+// schedule's turn; the air moves' frames follow it where that conflicts with
+// nothing (a home point used at the start and the end keeps its first
+// turn). A frame written without all of A, B, C keeps the orientation before
+// it, so it is completed only where its move must turn. nullopt, with `why`,
+// where the points do not allow the schedule: one aggregate ending cut
+// moves at different turns (a FOR loop over one point), or a cut move that
+// turns with an end frame computed (a _REL move, a CIRC with CA).
+std::optional<FrameTurns> frame_turns(const toolpath::Program& program,
+                                      const toolpath::RedundancySchedule& schedule,
+                                      std::string& why) {
+  const std::size_t n = program.moves.size();
+  const std::vector<std::pair<double, double>> by_move = schedule.by_move(n);
+  std::vector<char> required(n, 0);
+  for (const toolpath::RedundancySchedule::Line& line : schedule.lines) {
+    for (std::size_t m = line.first_move; m <= line.last_move && m < n; ++m)
+      required[m] = 1;
+    if (line.first_move > 0 && line.first_move - 1 < n)
+      required[line.first_move - 1] = 1;
+  }
+  auto source_of = [&](std::size_t m) -> const std::optional<toolpath::FrameSource>& {
+    static const std::optional<toolpath::FrameSource> none;
+    return m < program.frame_sources.size() ? program.frame_sources[m] : none;
+  };
+  FrameTurns out;
+  auto assign = [&](const toolpath::FrameSource& source, double turn_rad, int line, bool must) {
+    io::KrlFrameEdit edit{turn_rad, std::nullopt};
+    if (!source.complete)
+      edit.in_force_abc_deg = source.abc_deg;
+    const auto [it, added] = out.edits.emplace(source.site, edit);
+    if (!added && std::abs(it->second.turn_rad - turn_rad) > 1e-12 && must) {
+      why = fmt::format("the point on {} line {} ends moves at {:.1f} and {:.1f} deg (line {})",
+                        source.site.in_dat ? ".dat" : ".src", source.site.line,
+                        it->second.turn_rad * kDegPerRad, turn_rad * kDegPerRad, line);
+      return false;
+    }
+    return true;
+  };
+  // The cut's complete frames first, then the air moves' where free.
+  for (const bool must : {true, false})
+    for (std::size_t m = 0; m < n && m < by_move.size(); ++m)
+      if (const auto& source = source_of(m);
+          source && source->complete && static_cast<bool>(required[m]) == must &&
+          !assign(*source, by_move[m].second, program.moves[m].line, must))
+        return std::nullopt;
+  if (program.first_frame && program.first_frame->complete && !by_move.empty())
+    assign(*program.first_frame, by_move.front().first, 0, false);
+  // What each move ends at, in program order; frames without all of A, B, C
+  // completed where a cut move must turn.
+  out.first_turn_rad = 0.0;
+  if (program.first_frame && program.first_frame->complete)
+    out.first_turn_rad = out.edits.at(program.first_frame->site).turn_rad;
+  double previous = out.first_turn_rad;
+  out.end_turn_rad.resize(n);
+  for (std::size_t m = 0; m < n; ++m) {
+    const auto& source = source_of(m);
+    const double want = by_move[m].second;
+    double end = previous;  // inherited: a partial frame, a _REL move, a dwell
+    if (source && source->complete) {
+      end = out.edits.at(source->site).turn_rad;
+    } else if (source && (required[m] && std::abs(previous - want) > 1e-12)) {
+      if (!assign(*source, want, program.moves[m].line, true))
+        return std::nullopt;
+      end = want;
+    } else if (source && out.edits.count(source->site)) {
+      end = out.edits.at(source->site).turn_rad;  // completed for an earlier run of it
+    }
+    if (required[m] && std::abs(end - want) > 1e-12) {
+      why = fmt::format(
+          "line {} turns ψ but its end frame is computed (a _REL move or a CIRC "
+          "with CA)",
+          program.moves[m].line);
+      return std::nullopt;
+    }
+    out.end_turn_rad[m] = previous = end;
+  }
+  return out;
+}
+
 // The deflection compensation (toolpath/deflection_compensation.hpp) of the
 // program the improvement has written: the corrections collected on its
 // analysis (the after-run), written in the program's own frame and units,
@@ -361,10 +457,17 @@ ProgramImprovement improve_program(const io::Job& job, const toolpath::Program& 
   };
   const std::string text = read_text(settings.file);
   const std::string dat_text = krl ? read_text(settings.dat_file) : std::string();
+  // The bound on every turn of a schedule.
+  const auto joint_speed_max_rad_s = [&] {
+    return job.robot_path->redundancy_joint_speed_rad_s > 0.0
+               ? job.robot_path->redundancy_joint_speed_rad_s
+           : job.robot_path->feed_limits && job.robot_path->feed_limits->joint_speed_max_rad_s > 0.0
+               ? job.robot_path->feed_limits->joint_speed_max_rad_s
+               : 10.0 / kDegPerRad;
+  };
   if (search && oriented) {
-    // The frames set ψ: a KRL program's can be turned as a whole, each
-    // Cartesian point's A, B, C (io/krl_frame_turn.hpp), where every one
-    // of them can.
+    // The frames set ψ: a KRL program's can be turned, each Cartesian
+    // point's A, B, C (io/krl_frame_turn.hpp), where every one of them can.
     const io::KrlFrameTurn trial =
         krl ? io::turn_krl_frames(text, dat_text, 0.0, settings.tool_direction)
             : io::KrlFrameTurn{};
@@ -377,22 +480,40 @@ ProgramImprovement improve_program(const io::Job& job, const toolpath::Program& 
                                                             : settings.file.filename().string(),
                         trial.refused.front().line, trial.refused.front().reason);
     } else {
-      psi.kind = RedundancyDecision::Kind::single;
       psi.turns_frames = true;
-      psi.choice = toolpath::choose_redundancy_angle(
-          before, recorded, job.robot_path->redundancy_search_rad, 0.02, threads);
-      after_settings.frame_turn_rad = psi.choice->chosen_rad;
+      if (job.robot_path->redundancy_per_line) {
+        // ψ(s) per line, each point's frame turned by the angle of the line
+        // that ends at it, where the points allow (one point, one angle).
+        std::vector<toolpath::RecordedSample> posed = recorded;
+        toolpath::RedundancySchedule schedule = toolpath::schedule_redundancy(
+            before, program, posed, job.robot_path->redundancy_search_rad, joint_speed_max_rad_s(),
+            0.02, threads);
+        const std::optional<FrameTurns> turns =
+            schedule.changed() ? frame_turns(program, schedule, psi.per_line_refused)
+                               : FrameTurns{};
+        if (turns) {
+          psi.kind = RedundancyDecision::Kind::per_line;
+          psi.joint_speed_max_rad_s = joint_speed_max_rad_s();
+          psi.frame_turns = turns->edits;
+          if (schedule.changed()) {
+            after_settings.redundancy_by_move = turns->by_move();
+            recorded = std::move(posed);
+          }
+          psi.schedule = std::move(schedule);
+        }
+      }
+      if (!psi.schedule) {
+        psi.kind = RedundancyDecision::Kind::single;
+        psi.choice = toolpath::choose_redundancy_angle(
+            before, recorded, job.robot_path->redundancy_search_rad, 0.02, threads);
+        after_settings.frame_turn_rad = psi.choice->chosen_rad;
+      }
     }
   } else if (search && job.robot_path->redundancy_per_line) {
     // ψ(s): one angle per program line, turning between lines within the
     // joint-speed bound.
     psi.kind = RedundancyDecision::Kind::per_line;
-    psi.joint_speed_max_rad_s =
-        job.robot_path->redundancy_joint_speed_rad_s > 0.0
-            ? job.robot_path->redundancy_joint_speed_rad_s
-        : job.robot_path->feed_limits && job.robot_path->feed_limits->joint_speed_max_rad_s > 0.0
-            ? job.robot_path->feed_limits->joint_speed_max_rad_s
-            : 10.0 / kDegPerRad;
+    psi.joint_speed_max_rad_s = joint_speed_max_rad_s();
     psi.schedule = toolpath::schedule_redundancy(before, program, recorded,
                                                  job.robot_path->redundancy_search_rad,
                                                  psi.joint_speed_max_rad_s, 0.02, threads);
@@ -582,26 +703,39 @@ ProgramImprovement improve_program(const io::Job& job, const toolpath::Program& 
   rerun.max_torque_nm = analysis.max_torque_nm;
   rerun.cycle_time_s = analysis.cutting_time_s + analysis.air_time_s + analysis.dwell_time_s;
   rerun.redundancy_rad = after_settings.redundancy_rad;
-  // A turn of a KRL program's frames, written into every Cartesian point of
-  // the .src and the .dat, read back: the same points, each tool x turned
-  // about its axis by the chosen angle.
-  if (psi.turns_frames && psi.choice->changed()) {
-    const double turn_rad = psi.choice->chosen_rad - psi.choice->programmed_rad;
+  // A turn of a KRL program's frames, written into its Cartesian points (all
+  // by one angle, or each by its line's), read back: the same points, each
+  // move's tool x at its end turned about its axis as chosen.
+  const bool turn_all = psi.turns_frames && psi.choice && psi.choice->changed();
+  const bool turn_each = psi.turns_frames && psi.schedule && psi.schedule->changed();
+  if (turn_all || turn_each) {
+    const std::vector<std::pair<double, double>>& by_move = after_settings.redundancy_by_move;
+    const double turn_rad = turn_all ? psi.choice->chosen_rad - psi.choice->programmed_rad : 0.0;
+    // Turned in the program as read (the sites' lines), then the feed
+    // statements inserted as before.
     io::KrlFrameTurn turned =
-        io::turn_krl_frames(written, dat_text, turn_rad, settings.tool_direction);
+        turn_all ? io::turn_krl_frames(text, dat_text, turn_rad, settings.tool_direction)
+                 : io::turn_krl_frames(text, dat_text, psi.frame_turns, settings.tool_direction);
+    if (written_changes)
+      turned.src = io::write_program_edits(turned.src, settings.format, edits, feeds);
+    if (!turned.refused.empty())
+      throw Error(fmt::format("the frame on {} line {} cannot be turned: {}; nothing was written",
+                              turned.refused.front().file, turned.refused.front().line,
+                              turned.refused.front().reason));
     const toolpath::Program check =
         read_back(settings, turned.src, scratch_file, rewritten.moves.size(), &turned.dat);
     for (std::size_t m = 0; m < check.moves.size(); ++m) {
       const toolpath::Move& got = check.moves[m];
       const toolpath::Move& was = rewritten.moves[m];
+      const double want_rad = turn_all ? turn_rad : by_move[m].second;
       const Eigen::Vector3d want_x =
-          Eigen::AngleAxisd(turn_rad, was.axis_end.normalized()) * was.tool_x_end;
+          Eigen::AngleAxisd(want_rad, was.axis_end.normalized()) * was.tool_x_end;
       if ((got.end_m - was.end_m).norm() > 1e-9 || (got.axis_end - was.axis_end).norm() > 1e-9 ||
           (got.tool_x_end - want_x).norm() > 1e-7)
         throw Error(
             fmt::format("the turned frames of line {} read back as another pose than the "
                         "program's turned by {:.3f} deg; nothing was written",
-                        got.line, turn_rad * kDegPerRad));
+                        got.line, want_rad * kDegPerRad));
     }
     written = std::move(turned.src);
     out.dat_text = std::move(turned.dat);

@@ -361,10 +361,21 @@ nlohmann::json improvement_json(const analysis::ProgramImprovement& im,
                    "ψ per program line, the cell's setting (the robot post's rotation about the "
                    "tool axis): the program has no word for it; redundancy_schedule.csv gives it "
                    "line by line, and the re-run uses it"}};
+    if (psi.turns_frames) {
+      redundancy["frames"] = true;
+      redundancy["frames_turned"] = im.frames_turned;
+      redundancy["note"] =
+          "the program's frames set ψ at every sample (psi_deg): the angles are turns of its "
+          "frames about the tool axis, each Cartesian point turned by the angle of the line that "
+          "ends at it (from_deg/to_deg), written into its A, B, C in program_optimized.src and "
+          ".dat; S and T bits are kept";
+    }
     if (schedule.changed())
       message += fmt::format(
-          "  optimize: redundancy angle per line, {} turns (min margin {:.2f} -> {:.2f} at the "
-          "programmed speeds)\n",
+          "  optimize: {} per line, {} turns (min margin {:.2f} -> {:.2f} at the programmed "
+          "speeds)\n",
+          psi.turns_frames ? "the program's frames turned about the tool axis"
+                           : "redundancy angle",
           schedule.turns, schedule.min_margin_before, schedule.min_margin_after);
   } else if (psi.kind == Kind::single) {
     const toolpath::RedundancyChoice& choice = *psi.choice;
@@ -390,9 +401,13 @@ nlohmann::json improvement_json(const analysis::ProgramImprovement& im,
       redundancy["frames_turned"] = im.frames_turned;
       redundancy["note"] =
           "the program's frames set ψ at every sample (psi_deg): the angles are turns of all "
-          "its frames about the tool axis, one for the whole program (its points serve several "
-          "lines), written into the A, B, C of every Cartesian point of program_optimized.src "
-          "and .dat; S and T bits are kept";
+          "its frames about the tool axis, one for the whole program, written into the A, B, C "
+          "of every Cartesian point of program_optimized.src and .dat; S and T bits are kept";
+      if (!psi.per_line_refused.empty()) {
+        redundancy["per_line_refused"] = psi.per_line_refused;
+        message += "  optimize: one turn of all frames instead of one per line: " +
+                   psi.per_line_refused + "\n";
+      }
     }
     if (choice.changed())
       message += fmt::format(

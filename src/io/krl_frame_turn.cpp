@@ -10,6 +10,8 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <functional>
+#include <map>
 #include <numbers>
 #include <optional>
 
@@ -97,17 +99,23 @@ std::vector<Item> items_of(std::string_view inner) {
   return items;
 }
 
-// Turns the aggregates of one text; `file` names it in refusals.
-std::string turn_text(std::string_view text, const std::string& file,
-                      const Eigen::Matrix3d& turn_local, KrlFrameTurn& result) {
+// The turn of the Cartesian aggregate at (line, ordinal): nullopt keeps it.
+using TurnAt = std::function<std::optional<KrlFrameEdit>(int line, int ordinal)>;
+
+// Turns the aggregates of one text; `file` names it in refusals. `all`:
+// every frame is to turn, so one without all of A, B, C is refused.
+std::string turn_text(std::string_view text, const std::string& file, const TurnAt& turn_at,
+                      bool all, const Eigen::Vector3d& local_axis, KrlFrameTurn& result) {
   std::string out;
   out.reserve(text.size());
   int line = 1;
+  int ordinal = 0;                  // Cartesian aggregates before, on this line
   std::size_t statement_start = 0;  // in `text`: the start of the current line
   for (std::size_t i = 0; i < text.size(); ++i) {
     const char c = text[i];
     if (c == '\n') {
       ++line;
+      ordinal = 0;
       statement_start = i + 1;
       out += c;
       continue;
@@ -144,17 +152,26 @@ std::string turn_text(std::string_view text, const std::string& file,
         if (item.name == std::string(1, "ABC"[k]))
           abc[k] = &item;
     const int found = (abc[0] != nullptr) + (abc[1] != nullptr) + (abc[2] != nullptr);
+    const bool cartesian = std::any_of(items.begin(), items.end(), [](const Item& item) {
+      return item.name.size() == 1 &&
+             std::string_view("XYZABC").find(item.name[0]) != std::string_view::npos;
+    });
     // A system variable ($BASE, $TOOL, …) or the base and tool tables place
     // frames, not the tool's path.
     const bool placement =
         !target.empty() && (target.front() == '$' || target.rfind("BASE_DATA", 0) == 0 ||
                             target.rfind("TOOL_DATA", 0) == 0);
-    if (found == 0 || placement) {
+    const std::optional<KrlFrameEdit> edit =
+        cartesian ? turn_at(line, ordinal++) : std::optional<KrlFrameEdit>();
+    // Turning every frame, one without A, B, C inherits the turned frame
+    // before it; one with some of them cannot be turned alone.
+    const bool skip = placement || !edit || (all && found == 0);
+    if (skip) {
       out.append(text.substr(i, close - i + 1));
       i = close;
       continue;
     }
-    if (found < 3) {
+    if (found < 3 && !edit->in_force_abc_deg) {
       result.refused.push_back(
           {file, line,
            "a partial orientation (not all of A, B, C): the frame before sets the rest"});
@@ -162,9 +179,11 @@ std::string turn_text(std::string_view text, const std::string& file,
       i = close;
       continue;
     }
-    std::array<double, 3> values{};
+    std::array<double, 3> values = edit->in_force_abc_deg.value_or(std::array<double, 3>{});
     bool plain = true;
     for (int k = 0; k < 3; ++k) {
+      if (!abc[k])
+        continue;
       const auto v =
           number(inner.substr(abc[k]->value_begin, abc[k]->value_end - abc[k]->value_begin));
       plain = plain && v.has_value();
@@ -177,16 +196,23 @@ std::string turn_text(std::string_view text, const std::string& file,
       continue;
     }
     const std::array<double, 3> turned =
-        abc_of(rotation_abc(values[0], values[1], values[2]) * turn_local);
-    // Rebuild the aggregate with the three values replaced, in place.
+        abc_of(rotation_abc(values[0], values[1], values[2]) *
+               Eigen::AngleAxisd(-edit->turn_rad, local_axis).toRotationMatrix());
+    // Rebuild the aggregate with the values of A, B, C replaced in place,
+    // those it lacked appended.
     std::string rebuilt(inner);
-    std::array<const Item*, 3> order = {abc[0], abc[1], abc[2]};
-    std::array<int, 3> which = {0, 1, 2};
+    std::vector<int> which;
+    for (int k = 0; k < 3; ++k)
+      if (abc[k])
+        which.push_back(k);
     std::sort(which.begin(), which.end(),
-              [&](int a, int b) { return order[a]->value_begin > order[b]->value_begin; });
+              [&](int a, int b) { return abc[a]->value_begin > abc[b]->value_begin; });
     for (const int k : which)
-      rebuilt.replace(order[k]->value_begin, order[k]->value_end - order[k]->value_begin,
+      rebuilt.replace(abc[k]->value_begin, abc[k]->value_end - abc[k]->value_begin,
                       krl_value(turned[static_cast<std::size_t>(k)]));
+    for (int k = 0; k < 3; ++k)
+      if (!abc[k])
+        rebuilt += fmt::format(",{}{}", "ABC"[k], krl_value(turned[static_cast<std::size_t>(k)]));
     out += '{';
     out += rebuilt;
     out += '}';
@@ -202,10 +228,27 @@ KrlFrameTurn turn_krl_frames(std::string_view src, std::string_view dat, double 
                              char tool_direction) {
   const Eigen::Vector3d local =
       tool_direction == 'z' ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitX();
-  const Eigen::Matrix3d turn_local = Eigen::AngleAxisd(-turn_rad, local).toRotationMatrix();
+  const TurnAt every = [&](int, int) { return std::optional<KrlFrameEdit>({turn_rad, {}}); };
   KrlFrameTurn result;
-  result.src = turn_text(src, "src", turn_local, result);
-  result.dat = turn_text(dat, "dat", turn_local, result);
+  result.src = turn_text(src, "src", every, true, local, result);
+  result.dat = turn_text(dat, "dat", every, true, local, result);
+  return result;
+}
+
+KrlFrameTurn turn_krl_frames(std::string_view src, std::string_view dat,
+                             const std::map<toolpath::FrameSite, KrlFrameEdit>& edits,
+                             char tool_direction) {
+  const Eigen::Vector3d local =
+      tool_direction == 'z' ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitX();
+  KrlFrameTurn result;
+  for (const bool in_dat : {false, true}) {
+    const TurnAt at = [&](int line, int ordinal) -> std::optional<KrlFrameEdit> {
+      const auto it = edits.find(toolpath::FrameSite{in_dat, line, ordinal});
+      return it == edits.end() ? std::nullopt : std::optional<KrlFrameEdit>(it->second);
+    };
+    (in_dat ? result.dat : result.src) =
+        turn_text(in_dat ? dat : src, in_dat ? "dat" : "src", at, false, local, result);
+  }
   return result;
 }
 

@@ -111,6 +111,29 @@ std::string_view leading_word(std::string_view text) {
   return text.substr(0, n);
 }
 
+// The Cartesian aggregates {…} (any of X, Y, Z, A, B, C) of a cleaned
+// statement before `offset` (the ordinal of a FrameSite; io/krl_frame_turn
+// counts alike).
+int frames_before(std::string_view text, std::size_t offset) {
+  int count = 0;
+  for (std::size_t open = text.find('{'); open < offset; open = text.find('{', open + 1)) {
+    const std::size_t close = text.find('}', open);
+    if (close == std::string_view::npos)
+      break;
+    bool cartesian = false;
+    std::string_view body = text.substr(open + 1, close - open - 1);
+    if (const std::size_t colon = body.find(':'); colon != std::string_view::npos)
+      body = body.substr(colon + 1);  // the type name: E6POS:, FRAME:
+    for (std::string_view piece : pt::split_top_level(body)) {
+      const std::string_view name = leading_word(pt::trim(piece));
+      cartesian = cartesian || (name.size() == 1 &&
+                                std::string_view("XYZABC").find(name[0]) != std::string_view::npos);
+    }
+    count += cartesian ? 1 : 0;
+  }
+  return count;
+}
+
 // ---------------------------------------------------------------------------
 // Positions.
 
@@ -122,7 +145,8 @@ constexpr std::array<std::string_view, 6> kComponentNames = {"X", "Y", "Z", "A",
 struct Target {
   std::array<std::optional<double>, 6> cartesian;
   bool joint = false;
-  bool assigned = true;  // false: declared without a value
+  bool assigned = true;                     // false: declared without a value
+  std::optional<toolpath::FrameSite> site;  // a Cartesian aggregate: where it is written
 };
 
 using Frame6 = std::array<double, 6>;  // X Y Z (mm), A B C (deg)
@@ -233,6 +257,7 @@ class KrlReader {
   std::set<std::string, std::less<>> other_variables_;  // REAL, BOOL, ...: declared, not modelled
   std::map<std::string, FdatRecord, std::less<>> fdats_;
   std::optional<FdatRecord> fdat_act_;
+  std::optional<toolpath::FrameSource> frame_source_;  // the target of the move being built
 
   Eigen::Isometry3d base_ = Eigen::Isometry3d::Identity();
   std::optional<Frame6> current_;     // the TCP frame in the base in force
@@ -353,6 +378,11 @@ Target KrlReader::aggregate(const Statement& s, std::string_view text) const {
   }
   if (cartesian && result.joint)
     fail(s.line, "an aggregate mixes Cartesian (X ... C) and axis (A1 ... A6) components");
+  const std::string_view whole = s.text;
+  if (cartesian && text.data() >= whole.data() && text.data() < whole.data() + whole.size())
+    result.site = toolpath::FrameSite{
+        in_dat_, s.line,
+        frames_before(whole, static_cast<std::size_t>(text.data() - whole.data()))};
   return result;
 }
 
@@ -439,7 +469,7 @@ void KrlReader::declare(const Statement& s, std::string_view type, std::string_v
       if (!value.empty())
         positions_[key] = aggregate(s, value);
       else
-        positions_.emplace(key, Target{{}, false, false});
+        positions_.emplace(key, Target{{}, false, false, std::nullopt});
     } else if (type == "INT") {
       integers_[key] = value.empty() ? 0 : integer(s, value);
     } else if (type == "FDAT") {
@@ -568,7 +598,7 @@ const Target* KrlReader::lookup(const Statement& s, std::string_view text, bool 
     return &it->second;
   }
   if (ptp && (name == "XHOME" || name == "HOME")) {
-    static const Target kAxisPosition{{}, true};
+    static const Target kAxisPosition{{}, true, true, std::nullopt};
     return &kAxisPosition;  // $H_POS / XHOME live in $config.dat: an axis position
   }
   fail(s.line, std::string(name) +
@@ -618,6 +648,16 @@ Vector3d KrlReader::tool_x(const Frame6& f) const {
   return (options_.tool_direction == 'z' ? r.col(0) : r.col(2)).normalized();
 }
 
+// Where a move's end frame is written and the orientation it ends at.
+std::optional<toolpath::FrameSource> source_of(const std::optional<toolpath::FrameSite>& site,
+                                               const Target& t, const Frame6& frame) {
+  if (!site)
+    return std::nullopt;
+  return toolpath::FrameSource{*site,
+                               t.cartesian[kA] && t.cartesian[kB] && t.cartesian[kC],
+                               {frame[kA], frame[kB], frame[kC]}};
+}
+
 // ---------------------------------------------------------------------------
 // Motion.
 
@@ -631,6 +671,8 @@ void KrlReader::finish(Move& move, const Statement& s, const Frame6& f) {
       note_once("no $VEL.CP", s.line, "a LIN / CIRC before any $VEL.CP: its feed is 0");
   }
   program_.moves.push_back(move);
+  program_.frame_sources.push_back(frame_source_);
+  frame_source_.reset();
   position_ = move.end_m;
   position_axis_ = move.axis_end;
   position_x_ = move.tool_x_end;
@@ -642,6 +684,8 @@ void KrlReader::move_to(const Statement& s, MotionKind kind, const Frame6& f) {
   const Vector3d axis = tool_axis(f);
   if (!position_) {
     note(s.line, "the program's first Cartesian point: no move before it is modelled");
+    program_.first_frame = frame_source_;
+    frame_source_.reset();
     position_ = end;
     position_axis_ = axis;
     position_x_ = tool_x(f);
@@ -727,6 +771,7 @@ void KrlReader::motion(const Statement& s, std::string_view word, std::string_vi
   } else {
     frame = resolve(s, t, word);
   }
+  frame_source_ = source_of(relative ? std::nullopt : t.site, t, frame);
   move_to(s, ptp ? MotionKind::rapid : MotionKind::linear, frame);
 }
 
@@ -794,6 +839,7 @@ void KrlReader::circ(const Statement& s, std::string_view rest, bool relative) {
   move.oriented = true;
   move.tool_x_start = position_x_;
   move.tool_x_end = tool_x(end);
+  frame_source_ = source_of(relative || ca_deg ? std::nullopt : end_target.site, end_target, end);
   finish(move, s, end);
 }
 
@@ -987,6 +1033,7 @@ void KrlReader::wait(const Statement& s, std::string_view rest) {
     move.tool = tool_;
     move.line = s.line;
     program_.moves.push_back(move);
+    program_.frame_sources.emplace_back();
     return;
   }
   if (pt::starts_with_word(rest, "FOR")) {

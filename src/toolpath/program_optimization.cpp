@@ -210,7 +210,10 @@ RedundancySchedule schedule_redundancy(const RobotAlongPath& along, const Progra
     throw std::invalid_argument("redundancy schedule: no candidates or no joint speed bound");
   const double risk = along.settings().risk_margin;
   RedundancySchedule schedule;
-  schedule.programmed_rad = along.settings().redundancy_rad;
+  // A program whose frames set ψ (KRL): the candidates turn its frames.
+  const bool frames = !samples.empty() && samples.front().sample.oriented;
+  schedule.programmed_rad =
+      frames ? along.settings().frame_turn_rad : along.settings().redundancy_rad;
   schedule.min_margin_before = std::numeric_limits<double>::infinity();
   for (const RecordedSample& r : samples) {
     schedule.min_margin_before = std::min(schedule.min_margin_before, r.margin);

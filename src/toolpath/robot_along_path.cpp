@@ -208,9 +208,11 @@ RobotSample RobotAlongPath::posture_at(const PathSample& sample, double redundan
 
 void RobotAlongPath::posture(const PathSample& sample, RobotSample& out) {
   double psi = sample.oriented ? settings_.frame_turn_rad : settings_.redundancy_rad;
-  if (!sample.oriented && sample.move < settings_.redundancy_by_move.size()) {
+  if (sample.move < settings_.redundancy_by_move.size()) {
+    // The schedule's angle; for a sample whose frame sets ψ, a turn of it.
     const auto [from, to] = settings_.redundancy_by_move[sample.move];
-    psi = from + (to - from) * sample.move_fraction;
+    psi = (sample.oriented ? settings_.frame_turn_rad : 0.0) + from +
+          (to - from) * sample.move_fraction;
   }
   out = posture_at(sample, psi, seed_);
   if (out.reachable)

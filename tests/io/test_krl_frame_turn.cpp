@@ -10,6 +10,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <numbers>
 #include <regex>
 #include <sstream>
@@ -125,6 +126,86 @@ TEST(KrlFrameTurn, FramesThatCannotBeTurnedAreNamedAndPlacementsKept) {
   EXPECT_NE(turned.src.find("BASE_DATA[2]={X 100,Y 0,Z 0,A 45,B 0,C 0}"), std::string::npos);
   EXPECT_NE(turned.src.find("PTP {A1 0,A2 -90,A3 90,A4 0,A5 0,A6 0}"), std::string::npos);
   EXPECT_NE(turned.src.find("LIN {X 1,Y 2,Z 3,A 20,B 90,C 0}"), std::string::npos) << turned.src;
+}
+
+// Each frame by its own angle (a schedule ψ(s)): the KRL reader records
+// where every move's end frame is written (toolpath::FrameSource), and
+// turn_krl_frames turns just those sites. On the example pocket: the two
+// inline PTP frames by 15°, the partial LIN of the slot completed with the
+// orientation it inherits turned by 90°, the .dat's SIDE points by 90° and
+// FINISH left as they were. Read back, every move ends with its tool x
+// turned by its own frame's angle (the ramp's partial frame inherits the
+// PTP's 15°, the FINISH points keep 0°).
+TEST(KrlFrameTurn, EachFrameByItsOwnAngleFromTheSitesTheReaderRecords) {
+  const fs::path source = fs::path(ROBOMILL_SOURCE_DIR) / "examples";
+  const Job job = load_job(source / "toolpath_pocket_krl.yaml");
+  const ToolpathSettings& settings = *job.toolpath;
+  const std::string src = read(settings.file), dat = read(settings.dat_file);
+  const toolpath::Program before = read_program(settings);
+  // The sites: XHOME (.dat line 4) is the first point; the PTPs on .src lines
+  // 19-20; the ramp and the slot (lines 23, 26) partial; SIDE[1..5] on .dat
+  // lines 7-11, FINISH on 13-17; the last PTP partial, then XHOME again.
+  ASSERT_TRUE(before.first_frame.has_value());
+  EXPECT_EQ(before.first_frame->site, (toolpath::FrameSite{true, 4, 0}));
+  ASSERT_EQ(before.frame_sources.size(), before.moves.size());
+  std::map<toolpath::FrameSite, KrlFrameEdit> edits;
+  std::vector<double> expected(before.moves.size(), 0.0);
+  double inherited = 0.0;
+  for (std::size_t m = 0; m < before.moves.size(); ++m) {
+    const auto& source = before.frame_sources[m];
+    ASSERT_TRUE(source.has_value()) << m;
+    const int line = source->site.line;
+    double turn = inherited;
+    if (!source->site.in_dat && (line == 19 || line == 20)) {
+      EXPECT_TRUE(source->complete);
+      turn = 15.0 * kDeg;
+      edits[source->site] = {turn, std::nullopt};
+    } else if (!source->site.in_dat && line == 26) {
+      EXPECT_FALSE(source->complete);
+      EXPECT_NEAR(source->abc_deg[1], 90.0, 1e-12);  // the B it inherits
+      turn = 90.0 * kDeg;
+      edits[source->site] = {turn, source->abc_deg};
+    } else if (source->site.in_dat && line >= 7 && line <= 11) {
+      turn = 90.0 * kDeg;
+      edits[source->site] = {turn, std::nullopt};
+    } else if (source->site.in_dat && line >= 13 && line <= 17) {
+      turn = 0.0;
+    } else if (!source->complete) {
+      EXPECT_TRUE(line == 23 || line == 36) << line;  // inherits the frame before
+    }
+    expected[m] = inherited = turn;
+  }
+  const KrlFrameTurn turned = turn_krl_frames(src, dat, edits, settings.tool_direction);
+  EXPECT_TRUE(turned.refused.empty());
+  EXPECT_EQ(turned.frames, 8u);  // 2 PTPs, the slot, 5 SIDE points
+  EXPECT_NE(turned.src.find("PTP {X 15,Y 20,Z 21,A 15,B 90,C 0}"), std::string::npos);
+  EXPECT_NE(turned.src.find("LIN {X 45,Y 20,Z 17}"), std::string::npos);
+  EXPECT_NE(turned.src.find("LIN {X 15,Y 20,Z 17,A 90,B 90,C 0}"), std::string::npos) << turned.src;
+  EXPECT_NE(turned.dat.find("SIDE[5]={X 15,Y 20,Z 17,A 90,B 90,C 0}"), std::string::npos);
+  EXPECT_NE(turned.dat.find("FINISH[1]={X 15,Y 13,Z 17,A 0,B 90,C 0}"), std::string::npos);
+
+  const fs::path folder = fs::temp_directory_path() / "robomill_krl_turn_each";
+  fs::create_directories(folder);
+  ToolpathSettings again = settings;
+  again.file = folder / "turned.src";
+  again.dat_file = folder / "turned.dat";
+  write(again.file, turned.src);
+  write(again.dat_file, turned.dat);
+  const toolpath::Program after = read_program(again);
+  fs::remove_all(folder);
+  ASSERT_EQ(before.moves.size(), after.moves.size());
+  for (std::size_t m = 0; m < before.moves.size(); ++m) {
+    const toolpath::Move& b = before.moves[m];
+    const toolpath::Move& a = after.moves[m];
+    EXPECT_LT((a.end_m - b.end_m).norm(), 1e-12) << m;
+    const Eigen::Vector3d want = Eigen::AngleAxisd(expected[m], b.axis_end) * b.tool_x_end;
+    EXPECT_LT((a.tool_x_end - want).norm(), 1e-9) << "move " << m << " line " << a.line;
+  }
+  // A site without all of A, B, C and no orientation in force: refused.
+  const KrlFrameTurn partial = turn_krl_frames(
+      "LIN {X 1,Y 2,Z 3}\n", "", {{toolpath::FrameSite{false, 1, 0}, {0.1, std::nullopt}}}, 'x');
+  ASSERT_EQ(partial.refused.size(), 1u);
+  EXPECT_EQ(partial.refused[0].line, 1);
 }
 
 }  // namespace

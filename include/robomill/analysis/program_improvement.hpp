@@ -22,12 +22,14 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "robomill/io/job.hpp"
+#include "robomill/io/krl_frame_turn.hpp"
 #include "robomill/io/robot_path.hpp"
 #include "robomill/toolpath/deflection_compensation.hpp"
 #include "robomill/toolpath/feed_schedule.hpp"
@@ -63,14 +65,21 @@ struct RedundancyDecision {
     single,          ///< one angle for the program: `choice`
   };
   Kind kind = Kind::none;
-  /// single, on a KRL program: the candidates turn its frames about the tool
-  /// axis (RobotPathSettings::frame_turn_rad), and the chosen turn is
-  /// written into them (io::turn_krl_frames). One turn for the whole
-  /// program: its points serve several lines (FOR loops, a home pose).
+  /// On a KRL program: the candidates turn its frames about the tool axis
+  /// (single: RobotPathSettings::frame_turn_rad, one turn of every frame;
+  /// per_line: redundancy_by_move, each frame by the angle of the line that
+  /// ends at it), and the chosen turns are written into them
+  /// (io::turn_krl_frames).
   bool turns_frames = false;
   /// program_frames: why the frames cannot be turned ("pocket.src line 12:
   /// …"); empty for a dialect whose frames robomill does not write.
   std::string frames_refused;
+  /// per_line on a KRL program: each frame's turn (toolpath::FrameSite, the
+  /// aggregate a move ends at), written with io::turn_krl_frames.
+  std::map<toolpath::FrameSite, io::KrlFrameEdit> frame_turns;
+  /// per_line asked of a KRL program whose points cannot take one angle
+  /// each (why); one turn of all its frames was chosen instead.
+  std::string per_line_refused;
   double joint_speed_max_rad_s = 0.0;  ///< per_line: the bound on every turn
   std::optional<toolpath::RedundancySchedule> schedule;
   std::optional<toolpath::RedundancyChoice> choice;

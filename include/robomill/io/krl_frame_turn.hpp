@@ -11,9 +11,14 @@
 // spindle, robomill's sign) is R' = R Rx(−Δ) with #X, R Rz(−Δ) with #Z.
 // The positions (X, Y, Z) and everything else stay as written.
 
+#include <array>
+#include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "robomill/toolpath/program.hpp"
 
 namespace robomill::io {
 
@@ -39,6 +44,24 @@ struct KrlFrameTurn {
 /// and stay. An E6POS's S and T bits are kept: a turn that moves joint 6
 /// across 0 may need another T at a PTP point.
 KrlFrameTurn turn_krl_frames(std::string_view src, std::string_view dat, double turn_rad,
+                             char tool_direction);
+
+/// One frame's turn (a redundancy schedule ψ(s)): by `turn_rad` about the
+/// tool axis. A frame written without all of A, B, C (`LIN {X 45, Y 20, Z
+/// 17}` keeps the orientation before it) gets the turn of `in_force_abc_deg`,
+/// the orientation it inherits, its missing components appended.
+struct KrlFrameEdit {
+  double turn_rad = 0.0;
+  std::optional<std::array<double, 3>> in_force_abc_deg;
+};
+
+/// Each frame by its own angle: the Cartesian aggregate at each site of
+/// `edits` (toolpath::FrameSite, as the KRL reader records where each move's
+/// end frame is written) turned, every other one kept. Refused: a listed
+/// aggregate whose A, B or C is an expression, or that lacks some of them
+/// with no orientation in force given.
+KrlFrameTurn turn_krl_frames(std::string_view src, std::string_view dat,
+                             const std::map<toolpath::FrameSite, KrlFrameEdit>& edits,
                              char tool_direction);
 
 }  // namespace robomill::io

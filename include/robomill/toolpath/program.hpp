@@ -13,6 +13,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <array>
 #include <cstddef>
 #include <optional>
 #include <string>
@@ -82,9 +83,34 @@ struct ProgramNote {
   std::string text;
 };
 
+/// Where a KRL program writes a frame: the `ordinal`-th Cartesian aggregate
+/// (one with any of X, Y, Z, A, B, C) on 1-based `line` of the .src or the
+/// .dat (comments and strings skipped), so that it can be written back
+/// (io/krl_frame_turn.hpp).
+struct FrameSite {
+  bool in_dat = false;
+  int line = 0;
+  int ordinal = 0;
+  auto operator<=>(const FrameSite&) const = default;
+};
+
+/// The aggregate a KRL move's end frame was read from, and the orientation
+/// the move ends at (A, B, C in degrees, in the base): the aggregate's own,
+/// or for one without all of A, B, C (`complete` false) the frame before's.
+struct FrameSource {
+  FrameSite site;
+  bool complete = true;
+  std::array<double, 3> abc_deg{};
+};
+
 struct Program {
   std::string dialect;  ///< "gcode", "apt" or "krl"
   std::vector<Move> moves;
+  /// KRL only (else empty): per move, the aggregate its end frame was read
+  /// from; nullopt where the end frame was computed (a …_REL move, a CIRC
+  /// with CA) or there is none (a dwell).
+  std::vector<std::optional<FrameSource>> frame_sources;
+  std::optional<FrameSource> first_frame;  ///< the program's first Cartesian point
   std::vector<ToolCall> tool_calls;
   std::vector<ProgramNote> notes;
   std::size_t line_count = 0;  ///< lines in the source
