@@ -70,7 +70,7 @@ sanitize-build: setup
 # took 15 of a 2-core CI run's 28 minutes. Also cli.toolpath (618 s under ASan,
 # 52 s in release): its readers, writers, program analysis and --optimize run
 # under ASan in the unit tests, cli.toolpath_arcs (the compensation, feeds and
-# the G-code writer) and cli.toolpath_krl_schedule (the KRL frames and ψ(s)).
+# the G-code writer) and cli.toolpath_krl (the KRL frames, ψ(s) and compensation).
 # They still run in the release pass.
 SANITIZE_SKIP ?= ^(BoundarySearch\.NoUnstableDepthBelowTheLimitInADenseMap|BoundarySearch\.ContinuationFindsTheSameLimits|Floquet\.TimeInvariantCouplingReproducesTheTurningLimit|Floquet\.MethodsConvergeToTheSameBoundary|Paper004\.OptimumIsAtLeastAsGoodAsThePapersAndSeedsAgree|ZeroOrderVersusFdm\.TwoToothSlotWithItsMeanCouplingIsTheZeroOrderDiagram|BenchmarkChatter\.ProcessDampingStabilizesAsTheFdmBoundaryPredicts|SurfaceZMap\.HeightBudgetOnlySavesWork|SurfaceZMap\.VibrationLockedToTheSpindlePrintsLikeTheKinematicSurface|Paper001Surface\..*|ProgramAnalysis\.PocketCornerEngagementMatchesTheClosedForm|SimulateVsStability\.(OneDofBenchmarkGrid|TwoModeRobotGrid)|cli\.toolpath)$$
 test-sanitize: sanitize-build

@@ -19,6 +19,7 @@
 #include "robomill/analysis/program_run.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/io/krl_frame_turn.hpp"
+#include "robomill/io/krl_point_edits.hpp"
 #include "robomill/io/program_readers.hpp"
 #include "robomill/io/program_writer.hpp"
 
@@ -213,9 +214,20 @@ CompensationOutcome compensate_program(const io::Job& job, const io::RobotPathSe
                                        const toolpath::ProgramAnalysisSettings& analysis_settings,
                                        const toolpath::PathCorrections& collected,
                                        const toolpath::Program& program, std::string& text,
+                                       std::string* dat,
                                        const std::filesystem::path& scratch_file) {
   const io::ToolpathSettings& settings = *job.toolpath;
   CompensationOutcome outcome;
+  // A KRL program: its points move where they are written, move by move
+  // (io/krl_point_edits.hpp), in the program frame.
+  const bool krl = settings.format == io::ToolpathSettings::Format::krl;
+  std::optional<toolpath::WritableMoves> writable;
+  toolpath::Program in_program_frame;
+  if (krl) {
+    writable = io::krl_writable_moves(program);
+    in_program_frame = program;
+    toolpath::apply_transform(in_program_frame, settings.program_to_workpiece.inverse());
+  }
   // Workpiece frame → the program's own (the readers applied
   // toolpath.origin/orientation): offsets turn back by its rotation.
   const Eigen::Matrix3d to_program = settings.program_to_workpiece.linear().transpose();
@@ -227,8 +239,9 @@ CompensationOutcome compensate_program(const io::Job& job, const io::RobotPathSe
   std::map<int, std::string> skipped;  // line → the writer's reason, every round
   std::vector<toolpath::LineCorrection> all;
   io::PointEditResult edited;
+  std::string dat_edited = dat ? *dat : std::string();
   for (;;) {
-    all = collected.corrections(program, keep);
+    all = collected.corrections(program, keep, writable ? &*writable : nullptr);
     std::vector<io::PointEdit> point_edits;
     for (const toolpath::LineCorrection& c : all) {
       io::PointEdit edit{c.line, to_program * c.offset_m, {}, "", std::nullopt};
@@ -250,7 +263,26 @@ CompensationOutcome compensate_program(const io::Job& job, const io::RobotPathSe
       }
       point_edits.push_back(std::move(edit));
     }
-    edited = io::write_point_edits(text, settings.format, point_edits);
+    if (krl) {
+      std::vector<toolpath::LineCorrection> in_program;
+      std::vector<std::string> comments;
+      for (std::size_t i = 0; i < all.size(); ++i) {
+        toolpath::LineCorrection c = all[i];
+        c.offset_m = point_edits[i].offset_m;
+        for (std::size_t k = 0; k < c.points.size(); ++k)
+          c.points[k].offset_m = point_edits[i].points[k].offset_m;
+        in_program.push_back(std::move(c));
+        comments.push_back(point_edits[i].comment);
+      }
+      io::KrlPointEdits krl_edits =
+          io::write_krl_point_edits(text, dat ? std::string_view(*dat) : std::string_view(),
+                                    in_program_frame, in_program, comments);
+      edited.text = std::move(krl_edits.src);
+      edited.skipped = std::move(krl_edits.skipped);
+      dat_edited = std::move(krl_edits.dat);
+    } else {
+      edited = io::write_point_edits(text, settings.format, point_edits);
+    }
     if (edited.skipped.empty())
       break;
     for (const auto& s : edited.skipped) {
@@ -261,7 +293,8 @@ CompensationOutcome compensate_program(const io::Job& job, const io::RobotPathSe
   // Lines with an error the compensation leaves as programmed, and why; a
   // line the writer skipped in an earlier round keeps that round's reason.
   std::map<int, std::string> kept;
-  for (const toolpath::PathCorrections::Kept& k : collected.kept(program, keep))
+  for (const toolpath::PathCorrections::Kept& k :
+       collected.kept(program, keep, writable ? &*writable : nullptr))
     kept.emplace(k.line, k.reason);
   kept.insert(skipped.begin(), skipped.end());  // a line both kept and skipped: one reason
   outcome.skipped.assign(kept.begin(), kept.end());
@@ -280,7 +313,7 @@ CompensationOutcome compensate_program(const io::Job& job, const io::RobotPathSe
   const std::vector<toolpath::LineCorrection>& written = outcome.written;
   const std::vector<Eigen::Vector3d> expected = toolpath::corrected_ends(program, written);
   const toolpath::Program corrected =
-      read_back(settings, edited.text, scratch_file, expected.size());
+      read_back(settings, edited.text, scratch_file, expected.size(), dat ? &dat_edited : nullptr);
   // Which programmed move each written move stands for (a compensated
   // line's added points and its end all stand for it).
   std::map<std::size_t, const toolpath::LineCorrection*> correction_of;
@@ -331,7 +364,11 @@ CompensationOutcome compensate_program(const io::Job& job, const io::RobotPathSe
   // A redundancy schedule follows the moves a compensated line became (ψ
   // linear along the programmed line: each part takes its stretch of it).
   toolpath::RobotPathSettings corrected_settings = robot_settings;
-  if (!robot_settings.redundancy_by_move.empty()) {
+  if (krl) {  // the written frames carry any turn of ψ already
+    corrected_settings.frame_turn_rad = 0.0;
+    corrected_settings.redundancy_by_move.clear();
+  }
+  if (!corrected_settings.redundancy_by_move.empty()) {
     std::map<std::size_t, std::vector<double>> cuts;  // 0, the points' u, 1
     for (const toolpath::LineCorrection& c : written) {
       std::vector<double>& u = cuts[c.move];
@@ -396,6 +433,8 @@ CompensationOutcome compensate_program(const io::Job& job, const io::RobotPathSe
   outcome.compensated_cycle_time_s =
       analysis.cutting_time_s + analysis.air_time_s + analysis.dwell_time_s;
   text = edited.text;
+  if (dat)
+    *dat = std::move(dat_edited);
   return outcome;
 }
 
@@ -438,11 +477,6 @@ ProgramImprovement improve_program(const io::Job& job, const toolpath::Program& 
       first_pass.cutting_time_s + first_pass.air_time_s + first_pass.dwell_time_s;
   out.samples_before = first_pass.samples;
   out.chatter_before = before.summary().chatter;
-  if (job.robot_path && job.robot_path->compensation &&
-      settings.format == io::ToolpathSettings::Format::krl)
-    throw InputError("robot_path.compensation", job.robot_path->compensation->line,
-                     "the deflection compensation is written into G-code and APT programs; a KRL "
-                     "program's points live in its .dat and FOR loops run them several times");
   // The searches re-pose the recorded samples at the chosen ψ: a copy.
   std::vector<toolpath::RecordedSample> recorded = record.recorded;
   toolpath::RobotPathSettings after_settings = setup.settings;
@@ -743,13 +777,17 @@ ProgramImprovement improve_program(const io::Job& job, const toolpath::Program& 
     written_changes = true;
   }
   if (corrections) {
+    // A KRL program's points may live in its .dat (turned above, or as read).
+    std::string compensated_dat = out.dat_text ? *out.dat_text : dat_text;
     CompensationOutcome& c = out.compensation.emplace(
         compensate_program(job, setup, tooling, after_settings, analysis_settings, *corrections,
-                           rewritten, written, scratch_file));
+                           rewritten, written, krl ? &compensated_dat : nullptr, scratch_file));
     c.settings = compensation;
     c.before_m = percentiles(wall_errors_m);
     c.max_form_error_before_m = rerun.robot.max_form_error_m;
     written_changes = written_changes || !c.written.empty();
+    if (krl && !c.written.empty())
+      out.dat_text = std::move(compensated_dat);
   }
   if (written_changes)
     out.text = std::move(written);  // else only ψ changed: the program itself is the same

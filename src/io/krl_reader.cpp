@@ -648,14 +648,21 @@ Vector3d KrlReader::tool_x(const Frame6& f) const {
   return (options_.tool_direction == 'z' ? r.col(0) : r.col(2)).normalized();
 }
 
-// Where a move's end frame is written and the orientation it ends at.
+// Where a move's end frame is written, the orientation it ends at and the
+// base its numbers are in.
 std::optional<toolpath::FrameSource> source_of(const std::optional<toolpath::FrameSite>& site,
-                                               const Target& t, const Frame6& frame) {
+                                               const Target& t, const Frame6& frame,
+                                               const Eigen::Isometry3d& base) {
   if (!site)
     return std::nullopt;
-  return toolpath::FrameSource{*site,
-                               t.cartesian[kA] && t.cartesian[kB] && t.cartesian[kC],
-                               {frame[kA], frame[kB], frame[kC]}};
+  toolpath::FrameSource source;
+  source.site = *site;
+  source.complete = t.cartesian[kA] && t.cartesian[kB] && t.cartesian[kC];
+  source.abc_deg = {frame[kA], frame[kB], frame[kC]};
+  source.position_complete = t.cartesian[kX] && t.cartesian[kY] && t.cartesian[kZ];
+  source.base_rotation = base.linear();
+  source.base_origin_m = base.translation();
+  return source;
 }
 
 // ---------------------------------------------------------------------------
@@ -771,7 +778,7 @@ void KrlReader::motion(const Statement& s, std::string_view word, std::string_vi
   } else {
     frame = resolve(s, t, word);
   }
-  frame_source_ = source_of(relative ? std::nullopt : t.site, t, frame);
+  frame_source_ = source_of(relative ? std::nullopt : t.site, t, frame, base_);
   move_to(s, ptp ? MotionKind::rapid : MotionKind::linear, frame);
 }
 
@@ -839,7 +846,8 @@ void KrlReader::circ(const Statement& s, std::string_view rest, bool relative) {
   move.oriented = true;
   move.tool_x_start = position_x_;
   move.tool_x_end = tool_x(end);
-  frame_source_ = source_of(relative || ca_deg ? std::nullopt : end_target.site, end_target, end);
+  frame_source_ =
+      source_of(relative || ca_deg ? std::nullopt : end_target.site, end_target, end, base_);
   finish(move, s, end);
 }
 

@@ -902,8 +902,8 @@ PointEditResult write_point_edits(std::string_view text, ToolpathSettings::Forma
                                   std::vector<PointEdit> edits) {
   if (format == Format::krl && !edits.empty())
     throw InputError("toolpath.format", 0,
-                     "the deflection compensation is not written into KRL programs: their "
-                     "points live in the .dat and FOR loops run them several times");
+                     "write_point_edits writes G-code and APT; a KRL program's points are "
+                     "moved where they are written (io/krl_point_edits.hpp)");
   std::map<int, const PointEdit*> by_line;
   for (const PointEdit& edit : edits)
     by_line[edit.line] = &edit;

@@ -181,22 +181,32 @@ struct Roles {
   const Program& program;
   const std::vector<std::vector<Eigen::Vector3d>>& samples;
   const std::set<int>& keep;
+  const WritableMoves* writable;
   double min_offset_m;
   std::size_t moves;
   std::map<int, int> moves_on_line;
 
   Roles(const Program& p, const std::vector<std::vector<Eigen::Vector3d>>& s,
-        const std::set<int>& k, double min_offset)
+        const std::set<int>& k, const WritableMoves* w, double min_offset)
       : program(p),
         samples(s),
         keep(k),
+        writable(w),
         min_offset_m(min_offset),
         moves(std::min(p.moves.size(), s.size())) {
     for (const Move& move : program.moves)
       ++moves_on_line[move.line];
   }
+  // The move's end can be written on its own.
   bool alone(std::size_t m) const {
-    return moves_on_line.at(program.moves[m].line) == 1 && !keep.count(program.moves[m].line);
+    if (keep.count(program.moves[m].line))
+      return false;
+    if (writable)
+      return m < writable->end.size() && writable->end[m];
+    return moves_on_line.at(program.moves[m].line) == 1;
+  }
+  bool points_allowed(std::size_t m) const {
+    return !writable || (m < writable->points.size() && writable->points[m]);
   }
   double largest(std::size_t m) const {
     double out = 0.0;
@@ -264,8 +274,9 @@ void PathCorrections::add(const PathSample& sample, const RobotSample& robot) {
 }
 
 std::vector<LineCorrection> PathCorrections::corrections(const Program& program,
-                                                         const std::set<int>& keep) const {
-  const Roles roles(program, samples_, keep, settings_.min_offset_m);
+                                                         const std::set<int>& keep,
+                                                         const WritableMoves* writable) const {
+  const Roles roles(program, samples_, keep, writable, settings_.min_offset_m);
   const std::size_t moves = roles.moves;
   std::vector<LineCorrection> out;
   Eigen::Vector3d written_end = Eigen::Vector3d::Zero();  // the offset the path ends at so far
@@ -307,6 +318,11 @@ std::vector<LineCorrection> PathCorrections::corrections(const Program& program,
     }
     std::vector<std::size_t> kept;
     simplify(ends, start, 0, ends.size() - 1, settings_.tolerance_m, kept);
+    if (!roles.points_allowed(m)) {
+      kept.clear();  // the end alone moves: a straight line from the moved start
+      if (ends.back().norm() < settings_.min_offset_m)
+        continue;  // its end stays: nothing to write
+    }
     if (kept.size() > static_cast<std::size_t>(settings_.max_points)) {  // evenly thinned
       std::vector<std::size_t> thinned;
       for (int i = 0; i < settings_.max_points; ++i)
@@ -327,8 +343,9 @@ std::vector<LineCorrection> PathCorrections::corrections(const Program& program,
 }
 
 std::vector<PathCorrections::Kept> PathCorrections::kept(const Program& program,
-                                                         const std::set<int>& keep) const {
-  const Roles roles(program, samples_, keep, settings_.min_offset_m);
+                                                         const std::set<int>& keep,
+                                                         const WritableMoves* writable) const {
+  const Roles roles(program, samples_, keep, writable, settings_.min_offset_m);
   std::vector<Kept> out;
   for (std::size_t m = 0; m < roles.moves; ++m) {
     const Move& move = program.moves[m];
@@ -337,7 +354,11 @@ std::vector<PathCorrections::Kept> PathCorrections::kept(const Program& program,
     if (roles.largest(m) < settings_.min_offset_m || keep.count(move.line) ||
         (!out.empty() && out.back().line == move.line))
       continue;
-    if (roles.moves_on_line.at(move.line) != 1)
+    if (writable && !roles.alone(m))
+      out.push_back({move.line, m < writable->reason.size() && !writable->reason[m].empty()
+                                    ? writable->reason[m]
+                                    : std::string("its end point cannot be written on its own")});
+    else if (!writable && roles.moves_on_line.at(move.line) != 1)
       out.push_back(
           {move.line, "one of several moves on its line (a loop, a cycle, an arc in pieces)"});
     else if (move.kind == MotionKind::linear && !roles.line_editable(m))

@@ -136,8 +136,6 @@ assert c["compensated"]["at_risk_samples"] <= after["at_risk_samples"], c
 assert c["compensated"]["max_force_N"] <= limits["force_max_N"] * 1.01, c
 assert len(re.findall(r"\(robomill: compensated", text)) >= c["lines_compensated"], text
 PYEOF
-expect_exit2 "robot_path.compensation" toolpath "$R" --optimize "${FAST[@]}" --set "toolpath=$KRL_TOOLPATH" \
-  --set "toolpath.file=$SOURCE/examples/programs/pocket.src" --set "toolpath.dat=$SOURCE/examples/programs/pocket.dat"
 # ψ(s) on a 60° angle head (ψ moves the arm): one angle per line, turning
 # within 20 deg/s; the re-run's joints stay within it, no sample newly at risk.
 "$ROBOMILL" toolpath "$R" --out "$WORK/psi" --quiet --optimize "${FAST[@]}" \
@@ -157,7 +155,8 @@ PYEOF
 # ψ of a KRL program on the angle head: the search turns the program's frames
 # about the tool axis, writes the turn into the A, B, C of every Cartesian
 # point of program_optimized.src and .dat, and the written pair analysed on
-# its own gives the re-run's figures (the compensation is not for KRL).
+# its own gives the re-run's figures (the compensation is left out here:
+# cli.toolpath_krl runs the two together).
 sed -e '/^  compensation:/d' -e "s|file: programs/pocket.nc|file: $SOURCE/examples/programs/pocket.nc|" \
   "$R" > "$WORK/robot_krl.yaml"
 KRL_HEAD=(--set "toolpath=$KRL_TOOLPATH" --set 'robot.tool={xyz: [0, 0, 350], rpy: [180, 60, 0]}'

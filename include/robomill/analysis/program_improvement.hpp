@@ -155,8 +155,8 @@ struct ProgramImprovement {
 
 /// The improvement of a program whose first run (`first_pass`, the robot's
 /// analysis `before`, `record`) is done; scratch files go to `scratch_dir`.
-/// Throws InputError for a compensation asked of a KRL program, Error when a
-/// written program does not read back as chosen.
+/// Throws Error when a written program does not read back as chosen (nothing
+/// is written then).
 ProgramImprovement improve_program(const io::Job& job, const toolpath::Program& program,
                                    const toolpath::Tooling& tooling,
                                    const io::RobotPathSetup& setup,

@@ -130,8 +130,8 @@ struct PointEditResult {
 ///    three coordinates, with added points where the GOTO is not a record of
 ///    its own with three coordinates, and for an arc whose CIRCLE serves
 ///    further points (arc pieces) or is not written as numbers.
-///  - KRL: InputError naming `toolpath.format` (its points live in the .dat
-///    and FOR loops run them several times).
+///  - KRL: InputError naming `toolpath.format`: its points are moved where
+///    the .src or the .dat writes them, by io::write_krl_point_edits.
 PointEditResult write_point_edits(std::string_view text, ToolpathSettings::Format format,
                                   std::vector<PointEdit> edits);
 

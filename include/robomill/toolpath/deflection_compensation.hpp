@@ -82,6 +82,15 @@ struct LineCorrection {
   std::optional<ArcCorrection> arc;                    ///< arcs only
 };
 
+/// What a writer can change move by move where that is not "one move per
+/// program line" (a KRL program: a point of the .dat serves the move that
+/// ends at it, wherever a FOR loop runs the line).
+struct WritableMoves {
+  std::vector<char> end;            ///< per move: its end point can move on its own
+  std::vector<char> points;         ///< per move: points may be added inside it
+  std::vector<std::string> reason;  ///< per move: why its end cannot move
+};
+
 /// Collects, in program order, every sample's correction move by move.
 class PathCorrections {
  public:
@@ -98,9 +107,10 @@ class PathCorrections {
   /// centre is programmed from its start). A line starts where the line
   /// before was written to end (moved or not). Lines in `keep` (those the
   /// writer could not edit) stay as programmed, and so does a line before an
-  /// arc that stays.
-  std::vector<LineCorrection> corrections(const Program& program,
-                                          const std::set<int>& keep = {}) const;
+  /// arc that stays. With `writable`, a move may move where its end can
+  /// (not "alone on its line"), and gets points only where allowed.
+  std::vector<LineCorrection> corrections(const Program& program, const std::set<int>& keep = {},
+                                          const WritableMoves* writable = nullptr) const;
 
   /// The lines with a correction of at least `min_offset_m` that
   /// corrections() leaves as programmed, and why: a line of several moves (a
@@ -110,7 +120,8 @@ class PathCorrections {
     int line = 0;
     std::string reason;
   };
-  std::vector<Kept> kept(const Program& program, const std::set<int>& keep = {}) const;
+  std::vector<Kept> kept(const Program& program, const std::set<int>& keep = {},
+                         const WritableMoves* writable = nullptr) const;
 
  private:
   CompensationSettings settings_;

@@ -101,6 +101,11 @@ struct FrameSource {
   FrameSite site;
   bool complete = true;
   std::array<double, 3> abc_deg{};
+  bool position_complete = true;  ///< the aggregate writes all of X, Y and Z
+  /// The base in force (program frame ← the aggregate's, metres): a point
+  /// p written in mm is base_rotation p·1e-3 + base_origin_m.
+  Eigen::Matrix3d base_rotation = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d base_origin_m = Eigen::Vector3d::Zero();
 };
 
 struct Program {
