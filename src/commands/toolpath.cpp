@@ -315,6 +315,16 @@ nlohmann::json improvement_json(const analysis::ProgramImprovement& im,
   using Kind = analysis::RedundancyDecision::Kind;
   const analysis::RedundancyDecision& psi = im.redundancy;
   nlohmann::json redundancy = nullptr;
+  // A KRL program: the angles are turns of its frames, written into them.
+  const auto frames_turned = [&](const char* how) {
+    redundancy["frames"] = true;
+    redundancy["frames_turned"] = im.frames_turned;
+    redundancy["note"] = fmt::format(
+        "the program's frames set ψ at every sample (psi_deg): the angles are turns of its frames "
+        "about the tool axis, {}, written into the A, B, C of its Cartesian points in "
+        "program_optimized.src and .dat; S and T bits are kept",
+        how);
+  };
   if (psi.kind == Kind::program_frames) {
     std::string note =
         "the program's frames fix the tool's rotation about its axis (ψ per sample, psi_deg): "
@@ -361,21 +371,15 @@ nlohmann::json improvement_json(const analysis::ProgramImprovement& im,
                    "ψ per program line, the cell's setting (the robot post's rotation about the "
                    "tool axis): the program has no word for it; redundancy_schedule.csv gives it "
                    "line by line, and the re-run uses it"}};
-    if (psi.turns_frames) {
-      redundancy["frames"] = true;
-      redundancy["frames_turned"] = im.frames_turned;
-      redundancy["note"] =
-          "the program's frames set ψ at every sample (psi_deg): the angles are turns of its "
-          "frames about the tool axis, each Cartesian point turned by the angle of the line that "
-          "ends at it (from_deg/to_deg), written into its A, B, C in program_optimized.src and "
-          ".dat; S and T bits are kept";
-    }
+    if (psi.turns_frames)
+      frames_turned(
+          "each Cartesian point turned by the angle of the line that ends at it "
+          "(from_deg/to_deg)");
     if (schedule.changed())
       message += fmt::format(
           "  optimize: {} per line, {} turns (min margin {:.2f} -> {:.2f} at the programmed "
           "speeds)\n",
-          psi.turns_frames ? "the program's frames turned about the tool axis"
-                           : "redundancy angle",
+          psi.turns_frames ? "the program's frames turned about the tool axis" : "redundancy angle",
           schedule.turns, schedule.min_margin_before, schedule.min_margin_after);
   } else if (psi.kind == Kind::single) {
     const toolpath::RedundancyChoice& choice = *psi.choice;
@@ -397,16 +401,12 @@ nlohmann::json improvement_json(const analysis::ProgramImprovement& im,
                    "ψ is the cell's setting (the robot post's rotation about the tool "
                    "axis): the program has no word for it"}};
     if (psi.turns_frames) {
-      redundancy["frames"] = true;
-      redundancy["frames_turned"] = im.frames_turned;
-      redundancy["note"] =
-          "the program's frames set ψ at every sample (psi_deg): the angles are turns of all "
-          "its frames about the tool axis, one for the whole program, written into the A, B, C "
-          "of every Cartesian point of program_optimized.src and .dat; S and T bits are kept";
+      frames_turned("one turn of all of them for the whole program");
       if (!psi.per_line_refused.empty()) {
         redundancy["per_line_refused"] = psi.per_line_refused;
-        message += "  optimize: one turn of all frames instead of one per line: " +
-                   psi.per_line_refused + "\n";
+        message +=
+            "  optimize: one turn of all frames instead of one per line: " + psi.per_line_refused +
+            "\n";
       }
     }
     if (choice.changed())

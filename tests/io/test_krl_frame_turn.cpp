@@ -16,6 +16,7 @@
 #include <sstream>
 #include <string>
 
+#include "krl_pair.hpp"
 #include "robomill/io/job.hpp"
 #include "robomill/io/krl_frame_turn.hpp"
 #include "robomill/io/program_readers.hpp"
@@ -31,11 +32,6 @@ std::string read(const fs::path& file) {
   std::ostringstream text;
   text << in.rdbuf();
   return text.str();
-}
-
-void write(const fs::path& file, const std::string& text) {
-  std::ofstream out(file, std::ios::binary);
-  out << text;
 }
 
 Eigen::Matrix3d abc(double a, double b, double c) {
@@ -72,15 +68,9 @@ TEST(KrlFrameTurn, TheExamplePocketReadsBackWithEveryToolXTurned) {
   EXPECT_NE(turned.src.find(";FOLD INI;%{PE}"), std::string::npos);
   EXPECT_NE(turned.src.find("$BASE=BASE_DATA[1]"), std::string::npos);
 
-  const fs::path folder = fs::temp_directory_path() / "robomill_krl_turn";
-  fs::create_directories(folder);
-  ToolpathSettings again = settings;
-  again.file = folder / "turned.src";
-  again.dat_file = folder / "turned.dat";
-  write(again.file, turned.src);
-  write(again.dat_file, turned.dat);
-  const toolpath::Program before = read_program(settings), after = read_program(again);
-  fs::remove_all(folder);
+  const toolpath::Program before = read_program(settings);
+  const toolpath::Program after =
+      testing::read_krl_pair(settings, turned.src, turned.dat, "robomill_krl_turn");
   ASSERT_EQ(before.moves.size(), after.moves.size());
   ASSERT_GT(before.moves.size(), 10u);
   for (std::size_t m = 0; m < before.moves.size(); ++m) {
@@ -184,15 +174,8 @@ TEST(KrlFrameTurn, EachFrameByItsOwnAngleFromTheSitesTheReaderRecords) {
   EXPECT_NE(turned.dat.find("SIDE[5]={X 15,Y 20,Z 17,A 90,B 90,C 0}"), std::string::npos);
   EXPECT_NE(turned.dat.find("FINISH[1]={X 15,Y 13,Z 17,A 0,B 90,C 0}"), std::string::npos);
 
-  const fs::path folder = fs::temp_directory_path() / "robomill_krl_turn_each";
-  fs::create_directories(folder);
-  ToolpathSettings again = settings;
-  again.file = folder / "turned.src";
-  again.dat_file = folder / "turned.dat";
-  write(again.file, turned.src);
-  write(again.dat_file, turned.dat);
-  const toolpath::Program after = read_program(again);
-  fs::remove_all(folder);
+  const toolpath::Program after =
+      testing::read_krl_pair(settings, turned.src, turned.dat, "robomill_krl_turn_each");
   ASSERT_EQ(before.moves.size(), after.moves.size());
   for (std::size_t m = 0; m < before.moves.size(); ++m) {
     const toolpath::Move& b = before.moves[m];

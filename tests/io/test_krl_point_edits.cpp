@@ -15,6 +15,7 @@
 #include <sstream>
 #include <string>
 
+#include "krl_pair.hpp"
 #include "robomill/io/job.hpp"
 #include "robomill/io/krl_point_edits.hpp"
 #include "robomill/io/program_readers.hpp"
@@ -85,15 +86,8 @@ TEST(KrlPointEdits, EndsMoveWhereTheirPointsAreWrittenAndReadBack) {
   EXPECT_NE(edited.src.find("; robomill: test\nLIN {X"), std::string::npos) << edited.src;
   EXPECT_NE(edited.dat.find("} ; robomill: test"), std::string::npos) << edited.dat;
 
-  const fs::path folder = fs::temp_directory_path() / "robomill_krl_points";
-  fs::create_directories(folder);
-  ToolpathSettings again = settings;
-  again.file = folder / "edited.src";
-  again.dat_file = folder / "edited.dat";
-  std::ofstream(again.file, std::ios::binary) << edited.src;
-  std::ofstream(again.dat_file, std::ios::binary) << edited.dat;
-  toolpath::Program after = read_program(again);
-  fs::remove_all(folder);
+  toolpath::Program after =
+      testing::read_krl_pair(settings, edited.src, edited.dat, "robomill_krl_points");
   toolpath::apply_transform(after, settings.program_to_workpiece.inverse());
   const std::vector<Eigen::Vector3d> expected = toolpath::corrected_ends(program, corrections);
   ASSERT_EQ(after.moves.size(), expected.size());

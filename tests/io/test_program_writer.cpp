@@ -341,6 +341,19 @@ TEST(ProgramWriter, FeedsOfTheReaderCorpusRoundTrip) {
             << " KRL (" << krl.edited_lines << ")\n";
 }
 
+// The written program through its reader; a failure names the program.
+std::optional<toolpath::Program> written_reads_back(
+    const std::string& name, const std::string& text,
+    const std::function<toolpath::Program(const std::string&)>& read) {
+  try {
+    return read(text);
+  } catch (const InputError& error) {
+    ADD_FAILURE() << name << ": the written program does not read back: " << error.what() << "\n"
+                  << text;
+    return std::nullopt;
+  }
+}
+
 // The deflection compensation's moved points (write_point_edits) on the
 // same corpus: every other line that programs one straight feed move (not
 // followed by an arc, whose centre is relative to its start) moved by
@@ -391,14 +404,10 @@ void check(const std::string& name, const std::string& text, ToolpathSettings::F
     std::erase_if(corrections,
                   [&](const toolpath::LineCorrection& c) { return c.line == skipped.line; });
   }
-  toolpath::Program after;
-  try {
-    after = read(written.text);
-  } catch (const InputError& error) {
-    ADD_FAILURE() << name << ": the written program does not read back: " << error.what() << "\n"
-                  << written.text;
+  const std::optional<toolpath::Program> read_back = written_reads_back(name, written.text, read);
+  if (!read_back)
     return;
-  }
+  const toolpath::Program& after = *read_back;
   // Every written move ends where the corrected path does (the added points,
   // then the moved end; every other move where it was).
   const std::vector<Eigen::Vector3d> expected = toolpath::corrected_ends(before, corrections);
@@ -434,7 +443,8 @@ TEST(ProgramWriter, MovedPointsOfTheReaderCorpusRoundTrip) {
             << " added, " << apt.skipped << " skipped)\n";
   // KRL is refused by name.
   try {
-    (void)write_point_edits("DEF t( )\nEND\n", ToolpathSettings::Format::krl, {{1, {}, {}, "", std::nullopt}});
+    (void)write_point_edits("DEF t( )\nEND\n", ToolpathSettings::Format::krl,
+                            {{1, {}, {}, "", std::nullopt}});
     ADD_FAILURE() << "KRL point edits must be refused";
   } catch (const InputError& error) {
     EXPECT_EQ(error.field(), "toolpath.format");
@@ -534,14 +544,10 @@ void check(const std::string& name, const std::string& text, ToolpathSettings::F
     corrections.push_back(p.arc);
     centre_offset[p.arc.move] = p.arc.arc->centre_offset_m;
   }
-  toolpath::Program after;
-  try {
-    after = read(written.text);
-  } catch (const InputError& error) {
-    ADD_FAILURE() << name << ": the written program does not read back: " << error.what() << "\n"
-                  << written.text;
+  const std::optional<toolpath::Program> read_back = written_reads_back(name, written.text, read);
+  if (!read_back)
     return;
-  }
+  const toolpath::Program& after = *read_back;
   const std::vector<Eigen::Vector3d> expected = toolpath::corrected_ends(before, corrections);
   ASSERT_EQ(after.moves.size(), expected.size()) << name << "\n" << written.text;
   for (std::size_t m = 0; m < after.moves.size(); ++m) {
