@@ -121,13 +121,13 @@ std::string with_values(std::string_view inner, const std::vector<Item>& items,
   // Replaced from the last value in the text back, so spans stay valid.
   std::vector<std::pair<const Item*, double>> present;
   std::string appended;
-  for (const auto& [name, value] : values) {
+  for (const std::pair<std::string, double>& named : values) {
     const auto it = std::find_if(items.begin(), items.end(),
-                                 [&](const Item& item) { return item.name == name; });
+                                 [&](const Item& item) { return item.name == named.first; });
     if (it != items.end())
-      present.emplace_back(&*it, value);
+      present.emplace_back(&*it, named.second);
     else
-      appended += "," + name + krl_value(value);
+      appended += "," + named.first + krl_value(named.second);
   }
   std::sort(present.begin(), present.end(), [](const auto& a, const auto& b) {
     return a.first->value_begin > b.first->value_begin;
