@@ -2,40 +2,14 @@
 
 #include "krl_aggregates.hpp"
 
+#include "program_text.hpp"
+
 #include <algorithm>
 #include <cctype>
-#include <charconv>
 
 namespace robomill::io::krl_aggregates {
-namespace {
 
-std::string upper(std::string_view text) {
-  std::string out(text);
-  for (char& c : out)
-    c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  return out;
-}
-
-std::string_view trim(std::string_view text) {
-  while (!text.empty() && std::isspace(static_cast<unsigned char>(text.front())))
-    text.remove_prefix(1);
-  while (!text.empty() && std::isspace(static_cast<unsigned char>(text.back())))
-    text.remove_suffix(1);
-  return text;
-}
-
-}  // namespace
-
-std::optional<double> number(std::string_view text) {
-  text = trim(text);
-  if (!text.empty() && text.front() == '+')
-    text.remove_prefix(1);
-  double value = 0.0;
-  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (error != std::errc() || end != text.data() + text.size() || !std::isfinite(value))
-    return std::nullopt;
-  return value;
-}
+namespace pt = program_text;
 
 std::vector<Item> items_of(std::string_view inner) {
   std::vector<Item> items;
@@ -51,7 +25,7 @@ std::vector<Item> items_of(std::string_view inner) {
     while (i < end && (std::isalnum(static_cast<unsigned char>(inner[i])) || inner[i] == '_'))
       ++i;
     if (i > name_begin)
-      items.push_back({i, end, upper(inner.substr(name_begin, i - name_begin))});
+      items.push_back({i, end, pt::to_upper(inner.substr(name_begin, i - name_begin))});
     start = end + 1;
   }
   return items;
@@ -96,7 +70,8 @@ std::string rewrite(std::string_view text,
     a.line = line;
     a.inner = text.substr(i + 1, close - i - 1);
     a.items = items_of(a.inner);
-    const std::string target = upper(trim(text.substr(statement_start, i - statement_start)));
+    const std::string target =
+        pt::to_upper(pt::trim(text.substr(statement_start, i - statement_start)));
     // A system variable ($BASE, $TOOL, …) or the base and tool tables place
     // frames, not the tool's path.
     a.placement = !target.empty() && (target.front() == '$' || target.rfind("BASE_DATA", 0) == 0 ||

@@ -26,9 +26,6 @@ struct Item {
 
 std::vector<Item> items_of(std::string_view inner);
 
-/// A value written as KRL reads it; nullopt for an expression.
-std::optional<double> number(std::string_view text);
-
 /// A value as written after a component's name: a space, up to 9
 /// significant digits, -0 as 0.
 inline std::string krl_value(double value) {

@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "krl_aggregates.hpp"
+#include "program_text.hpp"
 
 namespace robomill::io {
 namespace {
@@ -67,8 +68,8 @@ std::string turn_text(std::string_view text, const std::string& file, const Turn
     for (int k = 0; k < 3; ++k) {
       if (!abc[k])
         continue;
-      const auto v =
-          ka::number(a.inner.substr(abc[k]->value_begin, abc[k]->value_end - abc[k]->value_begin));
+      const auto v = program_text::parse_number(
+          a.inner.substr(abc[k]->value_begin, abc[k]->value_end - abc[k]->value_begin));
       if (!v) {
         result.refused.push_back({file, a.line, "A, B or C written as an expression"});
         return std::nullopt;

@@ -7,6 +7,7 @@
 #include <map>
 
 #include "krl_aggregates.hpp"
+#include "program_text.hpp"
 
 namespace robomill::io {
 namespace {
@@ -109,8 +110,8 @@ KrlPointEdits write_krl_point_edits(std::string_view src, std::string_view dat,
                                        [&](const ka::Item& i) { return i.name == name; });
         const std::optional<double> v =
             item == a.items.end() ? std::nullopt
-                                  : ka::number(a.inner.substr(item->value_begin,
-                                                              item->value_end - item->value_begin));
+                                  : program_text::parse_number(a.inner.substr(
+                                        item->value_begin, item->value_end - item->value_begin));
         if (!v) {
           result.skipped.push_back(
               {move.line, fmt::format("its point's {} is not a number ({} line {})", name,

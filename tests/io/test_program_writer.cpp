@@ -221,6 +221,14 @@ std::optional<toolpath::Program> readable(
   }
 }
 
+// How many moves each program line makes.
+std::map<int, int> moves_per_line(const toolpath::Program& program) {
+  std::map<int, int> count;
+  for (const toolpath::Move& move : program.moves)
+    ++count[move.line];
+  return count;
+}
+
 void check(const std::string& name, const std::string& text, ToolpathSettings::Format format,
            const std::function<toolpath::Program(const std::string&)>& read, Checked& checked) {
   std::optional<toolpath::Program> program = readable(read, text);
@@ -373,9 +381,7 @@ void check(const std::string& name, const std::string& text, ToolpathSettings::F
   if (!program)
     return;
   const toolpath::Program& before = *program;
-  std::map<int, int> moves_on_line;
-  for (const toolpath::Move& move : before.moves)
-    ++moves_on_line[move.line];
+  std::map<int, int> moves_on_line = corpus::moves_per_line(before);
   const Eigen::Vector3d offset(30e-6, -20e-6, 10e-6);
   std::vector<PointEdit> edits;
   std::vector<toolpath::LineCorrection> corrections;
@@ -478,9 +484,7 @@ void check(const std::string& name, const std::string& text, ToolpathSettings::F
   if (!program)
     return;
   const toolpath::Program& before = *program;
-  std::map<int, int> moves_on_line;
-  for (const toolpath::Move& move : before.moves)
-    ++moves_on_line[move.line];
+  std::map<int, int> moves_on_line = corpus::moves_per_line(before);
   auto alone = [&](std::size_t m) { return moves_on_line[before.moves[m].line] == 1; };
   struct Pair {
     toolpath::LineCorrection line, arc;
