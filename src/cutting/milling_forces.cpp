@@ -279,12 +279,13 @@ ForceStatistics summarize(const ForceSeries& series, double spindle_rad_s) {
 }
 
 int default_axial_elements(const tool::Tool& tool, double axial_depth_m) {
-  // Resolve the helix lag to 0.5° per element and a ball nose to ≥ 40 slices;
+  // Resolve the helix lag to 0.5° per element and a rounded end (ball or torus
+  // corner) to ≥ 40 slices;
   // without helix a flat edge is exact with one element.
   constexpr double lag_per_element_rad = 0.5 * std::numbers::pi / 180.0;
   const double lag_rad = tool.lag_angle_rad(axial_depth_m);
   int count = static_cast<int>(std::ceil(lag_rad / lag_per_element_rad));
-  if (tool.type() == tool::ToolType::ball)
+  if (tool.corner_radius_m() > 0.0)  // a ball nose or a bull nose's corner
     count = std::max(count, 40);
   return std::clamp(count, 1, 2000);
 }

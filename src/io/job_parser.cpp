@@ -940,13 +940,25 @@ tool::ToolSpec detail::read_tool_fields(SectionReader& r) {
   r.allow_schema("tool");
 
   tool::ToolSpec spec;
-  spec.type = r.choice("type", {"flat", "ball"}, "flat") == "ball" ? tool::ToolType::ball
-                                                                   : tool::ToolType::flat;
+  const std::string type = r.choice("type", {"flat", "ball", "bull"}, "flat");
+  spec.type = type == "ball"   ? tool::ToolType::ball
+              : type == "bull" ? tool::ToolType::bull
+                               : tool::ToolType::flat;
   spec.diameter_m = r.quantity("diameter", length_mm());
   spec.teeth = r.integer("teeth", 1, 20);
   spec.helix_rad = r.quantity_or(
       "helix", field(dimensions::angle, kDeg, "deg", kNonNegative, Bound{80 * kDeg, true}), 0.0);
   const double radius = 0.5 * spec.diameter_m;
+  if (spec.type == tool::ToolType::bull) {
+    spec.corner_radius_m = r.quantity("corner_radius", length_mm(kPositive));
+    if (spec.corner_radius_m > radius * (1.0 + 1e-12))
+      r.fail("corner_radius", "must be at most the tool radius (" +
+                                  detail::format_in_unit(radius, length_mm()) + "), got " +
+                                  detail::format_in_unit(spec.corner_radius_m, length_mm()));
+  } else if (r.has("corner_radius")) {
+    r.fail("corner_radius", "is read for tool.type: bull only (a flat end mill has none, a "
+                            "ball's is its radius)");
+  }
   spec.overhang_m = r.quantity_or("overhang", length_mm(), 4.0 * spec.diameter_m);
   if (spec.type == tool::ToolType::ball && spec.overhang_m < radius) {
     r.fail("overhang", "must be at least the ball radius (" +

@@ -107,7 +107,8 @@ constexpr Field kFields[] = {
   {"job", "listen", K::map, "", "", "", "", "The recording detector's settings: see `listen`."},
 
   // --- tool
-  {"tool", "type", K::choice, "", "flat, ball", "flat", "", "Cylindrical helical end mill or ball-end mill (001 Eq 1-3)."},
+  {"tool", "type", K::choice, "", "flat, ball, bull", "flat", "", "Cylindrical helical end mill, ball-end mill (001 Eq 1-3), or bull-nose (torus) end mill: a flat end rounded into the side by a corner of radius `corner_radius` (001 Eq 1-3 with the corner's circle)."},
+  {"tool", "corner_radius", K::quantity, "mm", "0 < r ≤ radius", "", "bull only", "Corner radius of a bull-nose end mill (the torus's tube radius). r → 0 is the flat end mill, r = radius the ball."},
   {"tool", "diameter", K::quantity, "mm", "> 0", "", "yes", "Cutter diameter."},
   {"tool", "teeth", K::integer, "", "1 … 20", "", "yes", "Number of teeth."},
   {"tool", "helix", K::quantity, "deg", "0 … 80 deg", "0", "", "Helix angle (001: β0 at the ball–shank boundary)."},

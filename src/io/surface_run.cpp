@@ -191,6 +191,10 @@ SurfaceRun run_surface_job(const Job& job, int threads) {
   const auto start = std::chrono::steady_clock::now();
   SurfaceRun out;
   const tool::Tool cutter(*job.tool);
+  if (cutter.type() == tool::ToolType::bull)
+    throw InputError("tool.type", 0,
+                     "bull: the surface topography (paper 001) models flat and ball end mills; "
+                     "a bull-nose cutter's Z-map is not implemented");
   const cutting::MillingProcess& process = *job.process;
   const double ap = process.axial_depth_m;
 

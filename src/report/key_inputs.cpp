@@ -92,7 +92,9 @@ std::string key_inputs_json(const io::Job& job) {
   Rows rows;
   if (job.tool) {
     const tool::ToolSpec& t = *job.tool;
-    rows.add("tool", "type", t.type == tool::ToolType::ball ? "ball" : "flat");
+    rows.add("tool", "type", tool::type_name(t.type));
+    if (t.type == tool::ToolType::bull)
+      rows.add("tool", "corner_radius", with_unit(t.corner_radius_m * 1e3, "mm"));
     rows.add("tool", "diameter", with_unit(t.diameter_m * 1e3, "mm"));
     rows.add("tool", "teeth", std::to_string(t.teeth));
     rows.add("tool", "helix", with_unit(t.helix_rad * kDeg, "°"));
@@ -200,7 +202,7 @@ std::string key_inputs_json(const io::Job& job) {
     for (const auto& [number, spec] : t.tools)
       rows.add("toolpath", fmt::format("T{}", number),
                fmt::format("{} end mill, D {} mm, {} teeth, helix {}°",
-                           spec.type == tool::ToolType::ball ? "ball" : "flat",
+                           tool::type_name(spec.type),
                            num(spec.diameter_m * 1e3), spec.teeth, num(spec.helix_rad * kDeg)));
   }
   if (job.robot_path) {

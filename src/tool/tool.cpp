@@ -16,6 +16,17 @@ void require(bool condition, const std::string& message) {
 
 }  // namespace
 
+const char* type_name(ToolType type) noexcept {
+  switch (type) {
+    case ToolType::ball:
+      return "ball";
+    case ToolType::bull:
+      return "bull";
+    default:
+      return "flat";
+  }
+}
+
 Tool::Tool(const ToolSpec& spec) : spec_(spec) {
   constexpr double max_helix_rad = 80.0 * std::numbers::pi / 180.0;
   require(std::isfinite(spec.diameter_m) && spec.diameter_m > 0.0,
@@ -26,6 +37,13 @@ Tool::Tool(const ToolSpec& spec) : spec_(spec) {
   require(std::isfinite(spec.overhang_m) && spec.overhang_m > 0.0, "overhang must be positive");
   require(spec.type != ToolType::ball || spec.overhang_m >= radius_m(),
           "a ball-end mill's overhang must be at least its radius");
+  require(spec.type != ToolType::bull ||
+              (std::isfinite(spec.corner_radius_m) && spec.corner_radius_m > 0.0 &&
+               spec.corner_radius_m <= radius_m() * (1.0 + 1e-12)),
+          "a bull-nose end mill's corner radius must lie in (0, R], got " +
+              std::to_string(spec.corner_radius_m * 1e3) + " mm");
+  require(spec.type != ToolType::bull || spec.overhang_m >= spec.corner_radius_m,
+          "a bull-nose end mill's overhang must be at least its corner radius");
   require(std::isfinite(spec.youngs_modulus_pa) && spec.youngs_modulus_pa > 0.0,
           "Young's modulus must be positive");
   require(std::isfinite(spec.runout.offset_m) && spec.runout.offset_m >= 0.0 &&
@@ -38,16 +56,31 @@ double Tool::pitch_angle_rad(int tooth) const noexcept {
   return 2.0 * std::numbers::pi * tooth / spec_.teeth;
 }
 
+double Tool::corner_radius_m() const noexcept {
+  switch (spec_.type) {
+    case ToolType::ball:
+      return radius_m();
+    case ToolType::bull:
+      return std::min(spec_.corner_radius_m, radius_m());
+    default:
+      return 0.0;
+  }
+}
+
 double Tool::axial_immersion_rad(double height_m) const noexcept {
-  const double radius = radius_m();
-  if (spec_.type == ToolType::flat || height_m >= radius)
+  const double corner = corner_radius_m();
+  if (corner <= 0.0 || height_m >= corner)
     return 0.5 * std::numbers::pi;
-  // 001 Eq 1: on the ball z = R (1 − cos κ) measured from the tip.
-  return std::acos(std::clamp(1.0 - height_m / radius, -1.0, 1.0));
+  // 001 Eq 1 on the ball, z = R (1 − cos κ) measured from the tip; on a torus
+  // corner the corner's circle, z = r_c (1 − cos κ).
+  return std::acos(std::clamp(1.0 - height_m / corner, -1.0, 1.0));
 }
 
 double Tool::edge_radius_m(double height_m) const noexcept {
-  return radius_m() * std::sin(axial_immersion_rad(height_m));
+  const double corner = corner_radius_m();
+  if (corner <= 0.0 || height_m >= corner)
+    return radius_m();
+  return radius_m() - corner + corner * std::sin(axial_immersion_rad(height_m));
 }
 
 double Tool::lag_angle_rad(double height_m) const noexcept {
@@ -75,15 +108,17 @@ std::vector<EdgeElement> discretize_edge(const Tool& tool, double axial_depth_m,
     throw std::invalid_argument("need at least one axial element");
 
   const double radius = tool.radius_m();
+  const double corner = tool.corner_radius_m();
   std::vector<EdgeElement> elements;
   elements.reserve(static_cast<std::size_t>(count) + 1);
 
-  // Ball nose: equal steps of κ, i.e. equal arc length. Uniform steps in z
-  // would resolve the tip badly, where the edge runs almost radially and
-  // db = dz / sin κ is singular.
-  const double ball_depth_m = tool.type() == ToolType::ball ? std::min(axial_depth_m, radius) : 0.0;
+  // Ball nose or torus corner: equal steps of κ, i.e. equal arc length.
+  // Uniform steps in z would resolve the tip badly, where the edge runs
+  // almost radially and db = dz / sin κ is singular.
+  const double ball_depth_m = corner > 0.0 ? std::min(axial_depth_m, corner) : 0.0;
   const double cylinder_depth_m = axial_depth_m - ball_depth_m;
-  const double ball_arc_m = radius * std::acos(1.0 - ball_depth_m / radius);
+  const double ball_arc_m =
+      corner > 0.0 ? corner * std::acos(std::clamp(1.0 - ball_depth_m / corner, -1.0, 1.0)) : 0.0;
   int ball_count = 0;
   if (ball_depth_m > 0.0) {
     const double share = ball_arc_m / (ball_arc_m + cylinder_depth_m);
@@ -93,16 +128,16 @@ std::vector<EdgeElement> discretize_edge(const Tool& tool, double axial_depth_m,
   }
   const int cylinder_count = cylinder_depth_m > 0.0 ? std::max(count - ball_count, 1) : 0;
 
-  const double kappa_max = ball_arc_m / std::max(radius, 1e-300);
+  const double kappa_max = ball_arc_m / std::max(corner, 1e-300);
   for (int k = 0; k < ball_count; ++k) {
     const double kappa_low = kappa_max * k / ball_count;
     const double kappa_high = kappa_max * (k + 1) / ball_count;
     EdgeElement element;
     element.kappa_rad = 0.5 * (kappa_low + kappa_high);
-    element.height_m = radius * (1.0 - std::cos(element.kappa_rad));
-    element.axial_length_m = radius * (std::cos(kappa_low) - std::cos(kappa_high));
-    element.chip_width_m = radius * (kappa_high - kappa_low);  // exact arc length
-    element.radius_m = radius * std::sin(element.kappa_rad);
+    element.height_m = corner * (1.0 - std::cos(element.kappa_rad));
+    element.axial_length_m = corner * (std::cos(kappa_low) - std::cos(kappa_high));
+    element.chip_width_m = corner * (kappa_high - kappa_low);  // exact arc length
+    element.radius_m = radius - corner + corner * std::sin(element.kappa_rad);
     element.lag_rad = tool.lag_angle_rad(element.height_m);
     elements.push_back(element);
   }

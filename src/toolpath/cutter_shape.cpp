@@ -20,7 +20,7 @@ double CutterShape::radius_at(double height_m) const noexcept {
 CutterShape cutter_shape(const tool::Tool& tool) noexcept {
   CutterShape shape;
   shape.radius_m = tool.radius_m();
-  shape.corner_radius_m = tool.type() == tool::ToolType::ball ? tool.radius_m() : 0.0;
+  shape.corner_radius_m = tool.corner_radius_m();
   shape.length_m = tool.overhang_m();
   return shape;
 }

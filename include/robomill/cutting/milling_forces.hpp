@@ -106,7 +106,7 @@ class MillingForceModel {
 };
 
 /// Axial elements that resolve the helix lag to 0.5° per element (at least 40
-/// on a ball nose, 1 for a straight flute), at most 2000.
+/// on a rounded end, ball or bull nose; 1 for a straight flute), at most 2000.
 int default_axial_elements(const tool::Tool& tool, double axial_depth_m);
 
 /// How to sample a force history.

@@ -12,7 +12,13 @@
 
 namespace robomill::tool {
 
-enum class ToolType { flat, ball };
+/// flat: a cylinder with a flat end; ball: a hemispherical end of radius R;
+/// bull (bull-nose, torus end mill): a flat end of radius R − r_c rounded
+/// into the cylinder by a torus corner of radius r_c, 0 < r_c ≤ R.
+enum class ToolType { flat, ball, bull };
+
+/// The job file's name of a cutter type: "flat", "ball" or "bull".
+const char* type_name(ToolType type) noexcept;
 
 /// Parallel-axis runout (001 Eq 4): the tool axis is offset from the spindle
 /// axis by `offset_m`, at `angle_rad` measured from the first tooth.
@@ -30,6 +36,9 @@ struct ToolSpec {
   double overhang_m = 0.0;           ///< length from holder to tip (cantilever length, 000 Eq 1)
   double youngs_modulus_pa = 600e9;  ///< cemented carbide by default
   Runout runout;
+  /// Corner radius r_c of a bull-nose end mill (0 < r_c ≤ R; read only for
+  /// ToolType::bull: a flat end has 0, a ball R).
+  double corner_radius_m = 0.0;
 };
 
 /// A validated milling cutter. Construct once, share by const reference.
@@ -43,6 +52,9 @@ class Tool {
   ToolType type() const noexcept { return spec_.type; }
   const ToolSpec& spec() const noexcept { return spec_; }
   double radius_m() const noexcept { return 0.5 * spec_.diameter_m; }
+  /// Radius r_c of the rounded corner between the end and the side: 0 for a
+  /// flat end mill, R for a ball, the spec's for a bull nose.
+  double corner_radius_m() const noexcept;
   double diameter_m() const noexcept { return spec_.diameter_m; }
   int teeth() const noexcept { return spec_.teeth; }
   double helix_rad() const noexcept { return spec_.helix_rad; }
@@ -55,16 +67,22 @@ class Tool {
   double pitch_angle_rad(int tooth) const noexcept;
 
   /// Radius of the cutting edge at height z above the tip: R for a flat end
-  /// mill; R sin κ on the ball part of a ball-end mill, R above it.
+  /// mill; R sin κ on the ball part of a ball-end mill, R above it; on a
+  /// bull nose's corner R − r_c + r_c sin κ (the torus's tube circle).
   double edge_radius_m(double height_m) const noexcept;
 
   /// Axial immersion angle κ between the tool axis and the edge normal at
-  /// height z: π/2 on cylindrical edges, κ = acos(1 − z/R) on the ball (001 Eq 1).
+  /// height z: π/2 on cylindrical edges, κ = acos(1 − z/R) on the ball (001
+  /// Eq 1), and on a torus corner of radius r_c the same construction with
+  /// the corner's circle, κ = acos(1 − z/r_c) for z < r_c (the corner is a
+  /// quarter circle of radius r_c centred at radius R − r_c, height r_c).
   double axial_immersion_rad(double height_m) const noexcept;
 
   /// Helix lag angle ψ of the edge at height z behind its tip (000 Eq 11,
   /// 004 Eq 3: ψ = z tan β / R). On the ball part 001 Eq 3 gives
   /// ψ = tan β0 (1 − cos κ), which is the same expression since z = R(1 − cos κ).
+  /// On a bull nose's corner the same constant-lead helix (Engin & Altintas
+  /// 2001's general end mill with a constant lead): ψ = z tan β / R.
   double lag_angle_rad(double height_m) const noexcept;
 
   /// Distance from the spindle axis to the edge of tooth j at height z, with
@@ -88,7 +106,8 @@ struct EdgeElement {
 
 /// Splits the edge from the tip up to `axial_depth_m` into about `count`
 /// elements: equal steps of z on cylindrical edges, equal steps of κ (equal
-/// arc length) on a ball nose, the count shared in proportion to edge length.
+/// arc length) on a ball nose or a bull nose's corner, the count shared in
+/// proportion to edge length.
 /// Throws std::invalid_argument if the depth is not positive, exceeds
 /// the overhang, or count < 1.
 std::vector<EdgeElement> discretize_edge(const Tool& tool, double axial_depth_m, int count);
