@@ -121,7 +121,9 @@ MillingForceModel::MillingForceModel(const tool::Tool& tool, const CuttingLaw& l
       law_(law, widest_slice(engagement).mean_chip_m),
       nominal_engagement_(widest_slice(engagement).span),
       mean_chip_m_(widest_slice(engagement).mean_chip_m),
-      elements_(tool::discretize_edge(tool, engagement.axial_depth_m, axial_elements)) {
+      elements_(tool::discretize_edge(
+          tool, std::clamp(engagement.edge_from_m, 0.0, 0.999 * engagement.axial_depth_m),
+          engagement.axial_depth_m, axial_elements)) {
   build([&](const tool::EdgeElement& element) -> const std::vector<Engagement>& {
     return engagement.arcs[slice_of(engagement, element.height_m)];
   });

@@ -956,8 +956,9 @@ tool::ToolSpec detail::read_tool_fields(SectionReader& r) {
                                   detail::format_in_unit(radius, length_mm()) + "), got " +
                                   detail::format_in_unit(spec.corner_radius_m, length_mm()));
   } else if (r.has("corner_radius")) {
-    r.fail("corner_radius", "is read for tool.type: bull only (a flat end mill has none, a "
-                            "ball's is its radius)");
+    r.fail("corner_radius",
+           "is read for tool.type: bull only (a flat end mill has none, a "
+           "ball's is its radius)");
   }
   spec.overhang_m = r.quantity_or("overhang", length_mm(), 4.0 * spec.diameter_m);
   if (spec.type == tool::ToolType::ball && spec.overhang_m < radius) {

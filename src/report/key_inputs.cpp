@@ -201,8 +201,7 @@ std::string key_inputs_json(const io::Job& job) {
                          num(origin.z() * 1e3)));
     for (const auto& [number, spec] : t.tools)
       rows.add("toolpath", fmt::format("T{}", number),
-               fmt::format("{} end mill, D {} mm, {} teeth, helix {}°",
-                           tool::type_name(spec.type),
+               fmt::format("{} end mill, D {} mm, {} teeth, helix {}°", tool::type_name(spec.type),
                            num(spec.diameter_m * 1e3), spec.teeth, num(spec.helix_rad * kDeg)));
   }
   if (job.robot_path) {

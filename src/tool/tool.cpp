@@ -99,11 +99,17 @@ double Tool::edge_radius_with_runout_m(int tooth, double height_m) const noexcep
 }
 
 std::vector<EdgeElement> discretize_edge(const Tool& tool, double axial_depth_m, int count) {
-  if (!(axial_depth_m > 0.0))
+  return discretize_edge(tool, 0.0, axial_depth_m, count);
+}
+
+std::vector<EdgeElement> discretize_edge(const Tool& tool, double from_m, double to_m, int count) {
+  if (!(to_m > 0.0))
     throw std::invalid_argument("axial depth must be positive");
-  if (axial_depth_m > tool.overhang_m() * (1.0 + 1e-12)) {
+  if (to_m > tool.overhang_m() * (1.0 + 1e-12)) {
     throw std::invalid_argument("axial depth exceeds the tool overhang");
   }
+  if (!(from_m >= 0.0 && from_m < to_m))
+    throw std::invalid_argument("the edge's lower end must lie in [0, axial depth)");
   if (count < 1)
     throw std::invalid_argument("need at least one axial element");
 
@@ -114,24 +120,32 @@ std::vector<EdgeElement> discretize_edge(const Tool& tool, double axial_depth_m,
 
   // Ball nose or torus corner: equal steps of κ, i.e. equal arc length.
   // Uniform steps in z would resolve the tip badly, where the edge runs
-  // almost radially and db = dz / sin κ is singular.
-  const double ball_depth_m = corner > 0.0 ? std::min(axial_depth_m, corner) : 0.0;
-  const double cylinder_depth_m = axial_depth_m - ball_depth_m;
-  const double ball_arc_m =
-      corner > 0.0 ? corner * std::acos(std::clamp(1.0 - ball_depth_m / corner, -1.0, 1.0)) : 0.0;
+  // almost radially and db = dz / sin κ is singular. On the corner
+  // z = r_c (1 − cos κ).
+  auto kappa_at = [&](double height_m) {
+    return std::acos(std::clamp(1.0 - height_m / corner, -1.0, 1.0));
+  };
+  const double corner_from_m = corner > 0.0 ? std::min(from_m, corner) : 0.0;
+  const double corner_to_m = corner > 0.0 ? std::min(to_m, corner) : 0.0;
+  const double kappa_min = corner_to_m > corner_from_m ? kappa_at(corner_from_m) : 0.0;
+  const double kappa_max = corner_to_m > corner_from_m ? kappa_at(corner_to_m) : 0.0;
+  const double ball_arc_m = corner * (kappa_max - kappa_min);
+  const double cylinder_from_m = std::max(from_m, corner_to_m);
+  const double cylinder_depth_m = std::max(0.0, to_m - cylinder_from_m);
   int ball_count = 0;
-  if (ball_depth_m > 0.0) {
+  if (ball_arc_m > 0.0) {
     const double share = ball_arc_m / (ball_arc_m + cylinder_depth_m);
     ball_count = std::clamp(static_cast<int>(std::lround(share * count)), 1, count);
-    if (cylinder_depth_m > 0.0 && ball_count == count && count > 1)
-      --ball_count;
   }
+  // A cylinder too short for a share of the count (a bull nose whose corner
+  // is almost R, a depth just past a ball) gets one element of its own on top
+  // of the corner's: taking it from the corner would coarsen the κ steps
+  // where the edge's direction changes fastest.
   const int cylinder_count = cylinder_depth_m > 0.0 ? std::max(count - ball_count, 1) : 0;
 
-  const double kappa_max = ball_arc_m / std::max(corner, 1e-300);
   for (int k = 0; k < ball_count; ++k) {
-    const double kappa_low = kappa_max * k / ball_count;
-    const double kappa_high = kappa_max * (k + 1) / ball_count;
+    const double kappa_low = kappa_min + (kappa_max - kappa_min) * k / ball_count;
+    const double kappa_high = kappa_min + (kappa_max - kappa_min) * (k + 1) / ball_count;
     EdgeElement element;
     element.kappa_rad = 0.5 * (kappa_low + kappa_high);
     element.height_m = corner * (1.0 - std::cos(element.kappa_rad));
@@ -144,7 +158,7 @@ std::vector<EdgeElement> discretize_edge(const Tool& tool, double axial_depth_m,
   for (int k = 0; k < cylinder_count; ++k) {
     const double dz = cylinder_depth_m / cylinder_count;
     EdgeElement element;
-    element.height_m = ball_depth_m + (k + 0.5) * dz;
+    element.height_m = cylinder_from_m + (k + 0.5) * dz;
     element.axial_length_m = dz;
     element.kappa_rad = 0.5 * std::numbers::pi;
     element.chip_width_m = dz;  // db = dz / sin κ with κ = π/2

@@ -2,8 +2,10 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
+#include <optional>
 
 namespace robomill::toolpath {
 namespace {
@@ -113,6 +115,107 @@ double surface_inset_m(const EngagementGrid& grid, const CutterShape& cutter,
   return std::min(0.5 * resolution_m, 0.5 * resolution_m * resolution_m / cutter.radius_m + 1e-6);
 }
 
+namespace {
+
+// The cutter's surface at height h above the tip, seen from the axis at
+// angle φ: the point `inset` inside along the surface normal, the normal,
+// and the radius there. The normal is n = radial_share u + axial_share a: on
+// the corner (a ball's sphere, a bull nose's torus) the corner circle's
+// normal, on the side the radial direction.
+struct SurfaceProbe {
+  double radial_share = 1.0, axial_share = 0.0;
+  double test_radius_m = 0.0;  // of the test points, `inset` inside
+  double test_height_m = 0.0;  // of the test points along the axis
+};
+
+SurfaceProbe surface_probe(const CutterShape& cutter, double height_m, double inset_m) {
+  SurfaceProbe probe;
+  const double corner = cutter.corner_radius_m;
+  const double r = cutter.radius_at(height_m);
+  if (height_m < corner) {
+    // The corner circle is centred at radius R − r_c, height r_c.
+    probe.radial_share = (r - (cutter.radius_m - corner)) / corner;
+    probe.axial_share = (height_m - corner) / corner;
+  }
+  probe.test_radius_m = std::max(0.0, r - inset_m * probe.radial_share);
+  probe.test_height_m = height_m - inset_m * probe.axial_share;
+  return probe;
+}
+
+// The work of one query: the frame, the stock and the grid.
+struct Query {
+  const DexelStock& stock;
+  const CutterShape& cutter;
+  Eigen::Vector3d tip, a, x_hat, y_hat;
+  double inset = 0.0;
+  int points = 0;
+  double step = 0.0;
+  bool plunge = false;
+
+  Eigen::Vector3d direction(double sin_phi, double cos_phi) const {
+    return sin_phi * x_hat + cos_phi * y_hat;
+  }
+
+  // Fills scratch.in_material with the test points of height h; true when
+  // any is in material.
+  bool test(double height_m, Scratch& scratch) const {
+    const SurfaceProbe probe = surface_probe(cutter, height_m, inset);
+    const Eigen::Vector3d centre = tip + probe.test_height_m * a;
+    bool any = false;
+    for (int i = 0; i < points; ++i) {
+      const Eigen::Vector3d u = direction(scratch.sin[i], scratch.cos[i]);
+      const bool in = stock.contains(centre + probe.test_radius_m * u,
+                                     probe.radial_share * u + probe.axial_share * a);
+      scratch.in_material[i] = in;
+      any = any || in;
+    }
+    return any;
+  }
+
+  // The arcs of the in-material test points, at most kMaxArcs.
+  void arcs_into(Scratch& scratch, EngagementSlice& slice) const {
+    if (plunge && std::all_of(scratch.in_material.begin(), scratch.in_material.end(),
+                              [](char c) { return c != 0; })) {
+      scratch.arcs.assign(1, EngagedArc{0.0, kTwoPi});
+    } else {
+      collect_arcs(scratch.in_material, step, scratch.arcs);
+    }
+    merge_narrowest_gaps(scratch.arcs);
+    slice.arc_count = static_cast<int>(scratch.arcs.size());
+    std::copy(scratch.arcs.begin(), scratch.arcs.end(), slice.arcs.begin());
+  }
+
+  // Where the material met at the middle of each arc of a slice tested at
+  // height h ends along the axis, above (`upwards`) or below: the farthest
+  // end over the arcs, as a height above the tip. The dexel rays are exact
+  // along their own direction, so for a flat floor or top this is exact
+  // whatever the slice grid (DexelStock::material_run). An end beyond
+  // `beyond_m` is a ray running on up (or down) a wall that the slice's test
+  // points beside it read as air (a bore's side grazed in a helical ramp),
+  // and is not taken. Empty when no arc gives an end.
+  std::optional<double> material_end(const EngagementSlice& slice, double height_m, bool upwards,
+                                     double beyond_m) const {
+    const SurfaceProbe probe = surface_probe(cutter, height_m, inset);
+    std::optional<double> end;
+    for (int k = 0; k < slice.arc_count; ++k) {
+      const double phi = 0.5 * (slice.arcs[k].entry_rad + slice.arcs[k].exit_rad);
+      const Eigen::Vector3d point = tip + probe.test_height_m * a +
+                                    probe.test_radius_m * direction(std::sin(phi), std::cos(phi));
+      const auto run = stock.material_run(point, a);
+      if (!run)
+        continue;
+      const double h =
+          upwards ? probe.test_height_m + run->after_m : probe.test_height_m - run->before_m;
+      if (upwards ? h > beyond_m : h < beyond_m)
+        continue;
+      end = !end ? h : upwards ? std::max(*end, h) : std::min(*end, h);
+    }
+    return end;
+  }
+};
+
+}  // namespace
+
 CutterEngagement engagement_at(const DexelStock& stock, const CutterShape& cutter,
                                const Eigen::Vector3d& tip_m, const Eigen::Vector3d& axis,
                                const Eigen::Vector3d& feed_direction, const EngagementGrid& grid) {
@@ -123,23 +226,23 @@ CutterEngagement engagement_at(const DexelStock& stock, const CutterShape& cutte
       !(axis.norm() > 0.0) || !tip_m.allFinite()) {
     return result;
   }
-  const Eigen::Vector3d a = axis.normalized();
+  Query query{stock, cutter, tip_m, axis.normalized(), {}, {}};
+  const Eigen::Vector3d& a = query.a;
 
   // Local frame: x along the feed's component normal to the axis; for a
   // plunge (no such component) any normal direction, and the whole turn.
   const Eigen::Vector3d feed_normal = feed_direction - feed_direction.dot(a) * a;
-  const bool plunge = !(feed_normal.norm() > 1e-6 * feed_direction.norm());
-  Eigen::Vector3d x_hat;
-  if (plunge) {
+  query.plunge = !(feed_normal.norm() > 1e-6 * feed_direction.norm());
+  if (query.plunge) {
     Eigen::Vector3d least = Eigen::Vector3d::Zero();
     Eigen::Index i = 0;
     a.cwiseAbs().minCoeff(&i);
     least[i] = 1.0;
-    x_hat = (least - least.dot(a) * a).normalized();
+    query.x_hat = (least - least.dot(a) * a).normalized();
   } else {
-    x_hat = feed_normal.normalized();
+    query.x_hat = feed_normal.normalized();
   }
-  const Eigen::Vector3d y_hat = a.cross(x_hat);
+  query.y_hat = a.cross(query.x_hat);
 
   // Heights along the axis where the slice plane meets the stock box at all.
   const StockBox& box = stock.box();
@@ -155,65 +258,186 @@ CutterEngagement engagement_at(const DexelStock& stock, const CutterShape& cutte
   // surface, and the stock's interpolated boundary is off by up to about
   // 0.35 res² / R there (DexelStock::material_depth_m), so a point exactly on
   // the surface would read air or material by rounding.
-  const double inset = surface_inset_m(grid, cutter, stock.resolution_m());
+  query.inset = surface_inset_m(grid, cutter, stock.resolution_m());
+  const double inset = query.inset;
 
   const int half_steps = grid.angle_steps;
-  const double step = kPi / half_steps;
-  const int points = plunge ? 2 * half_steps : half_steps;
+  query.step = kPi / half_steps;
+  query.points = query.plunge ? 2 * half_steps : half_steps;
   thread_local Scratch scratch;
-  scratch.prepare(points, step);
+  scratch.prepare(query.points, query.step);
 
+  // 1. Each slice of the grid tested at its centre height.
   const int slice_count = std::max(1, static_cast<int>(std::ceil(length / dz - 1e-9)));
-  const double corner = cutter.is_ball() ? radius : 0.0;
-  int highest = -1;
-  double best_width = 0.0, best_angle = -1.0, plunge_section = 0.0;
-  std::vector<EngagementSlice> slices;
-  for (int k = 0; k < slice_count; ++k) {
+  auto grid_slice = [&](int k) {
     EngagementSlice slice;
     slice.thickness_m = std::min(dz, length - k * dz);
     slice.height_m = k * dz + 0.5 * slice.thickness_m;
+    slice.radius_m = cutter.radius_at(slice.height_m);
+    return slice;
+  };
+  std::vector<EngagementSlice> slices;
+  std::vector<double> tested_at;  // the height each slice's arcs were found at
+  for (int k = 0; k < slice_count; ++k) {
+    EngagementSlice slice = grid_slice(k);
     const double h = slice.height_m;
-    if (h > h_hi)
+    if (h > h_hi + 0.5 * dz)
       break;  // this slice and all above are outside the stock box
-    slice.radius_m = cutter.radius_at(h);
     slices.push_back(slice);
-    if (h < h_lo - inset)
+    tested_at.push_back(h);
+    if (h < h_lo - inset || h > h_hi)
       continue;
+    if (query.test(h, scratch))
+      query.arcs_into(scratch, slices.back());
+  }
+  // A cut thinner than half a slice (a finishing pass at a coarse grid)
+  // misses the first slice's centre: test it again just above the floor,
+  // clear of the inset the test points keep.
+  if (!slices.empty() && slices[0].arc_count == 0) {
+    const double low = std::min(0.5 * slices[0].thickness_m, 3.0 * inset + 1e-6);
+    if (low >= h_lo - inset && query.test(low, scratch)) {
+      query.arcs_into(scratch, slices[0]);
+      tested_at[0] = low;
+    }
+  }
 
-    // Surface normal n = radial_share u + axial_share a (on the ball the
-    // sphere's normal); the test point sits `inset` inside along it.
-    double radial_share = 1.0, axial_share = 0.0;
-    if (h < corner) {
-      radial_share = slice.radius_m / radius;
-      axial_share = (h - corner) / radius;
-    }
-    const double r_test = std::max(0.0, slice.radius_m - inset * radial_share);
-    const Eigen::Vector3d centre = tip_m + (h - inset * axial_share) * a;
-    bool any = false;
-    for (int i = 0; i < points; ++i) {
-      const Eigen::Vector3d u = scratch.sin[i] * x_hat + scratch.cos[i] * y_hat;
-      const bool in = stock.contains(centre + r_test * u, radial_share * u + axial_share * a);
-      scratch.in_material[i] = in;
-      any = any || in;
-    }
-    if (!any)
+  // 2. Each run of engaged slices ends where the material ends: its top
+  // slice is cut off, or the empty slice above it taken in with the same
+  // arcs, at the material's end along the axis; likewise its bottom when it
+  // does not start at the tip (the tip below the stock). ap, the chip area,
+  // the section and the forces then follow the program's depth, not the
+  // slice grid's.
+  const int count = static_cast<int>(slices.size());
+  std::vector<double> bottom(count), top(count);
+  for (int k = 0; k < count; ++k) {
+    bottom[k] = slices[k].height_m - 0.5 * slices[k].thickness_m;
+    top[k] = slices[k].height_m + 0.5 * slices[k].thickness_m;
+  }
+  constexpr double kMinThickness = 1e-9;
+  for (int k = 0; k < count;) {
+    if (slices[k].arc_count == 0) {
+      ++k;
       continue;
-
-    EngagementSlice& s = slices.back();
-    if (plunge && std::all_of(scratch.in_material.begin(), scratch.in_material.end(),
-                              [](char c) { return c != 0; })) {
-      scratch.arcs.assign(1, EngagedArc{0.0, kTwoPi});
-    } else {
-      collect_arcs(scratch.in_material, step, scratch.arcs);
     }
-    merge_narrowest_gaps(scratch.arcs);
-    s.arc_count = static_cast<int>(scratch.arcs.size());
-    std::copy(scratch.arcs.begin(), scratch.arcs.end(), s.arcs.begin());
-    highest = k;
+    int k1 = k;
+    while (k1 + 1 < count && slices[k1 + 1].arc_count > 0)
+      ++k1;
+    const int k0 = k;
+    k = k1 + 1;
+    // The next slice's own test at its centre found no material. Near a
+    // horizontal face that can be the interpolation of the rays across it,
+    // which reads air up to a cell below the face: an end up to a cell above
+    // that test is taken (at most through the next slice), one further up is
+    // a wall's.
+    const double cell = stock.resolution_m();
+    const double beyond = k1 + 1 < count ? tested_at[k1 + 1] + cell : top[k1] + dz;
+    const double limit = k1 + 1 < count ? top[k1 + 1] : std::min(length, top[k1] + dz);
+    if (const auto end = query.material_end(slices[k1], tested_at[k1], true, beyond)) {
+      const double material_top = std::clamp(*end, bottom[k1] + kMinThickness, limit);
+      if (material_top > top[k1] + kMinThickness && k1 + 1 < count) {
+        slices[k1 + 1].arc_count = slices[k1].arc_count;
+        slices[k1 + 1].arcs = slices[k1].arcs;
+        top[k1 + 1] = material_top;
+        ++k;  // the slice taken in ends this run
+      } else if (material_top > top[k1] + kMinThickness && k1 + 1 == count &&
+                 material_top <= length) {
+        EngagementSlice above = slices[k1];
+        slices.push_back(above);
+        tested_at.push_back(tested_at[k1]);
+        bottom.push_back(top[k1]);
+        top.push_back(material_top);
+      } else {
+        top[k1] = std::min(top[k1], material_top);
+      }
+    }
+    if (k0 > 0 && bottom[k0] > 0.0) {
+      const double below = tested_at[k0 - 1] - stock.resolution_m();
+      if (const auto end = query.material_end(slices[k0], tested_at[k0], false, below)) {
+        const double material_bottom = std::clamp(*end, bottom[k0 - 1], top[k0] - kMinThickness);
+        if (material_bottom < bottom[k0] && slices[k0 - 1].arc_count == 0) {
+          slices[k0 - 1].arc_count = slices[k0].arc_count;
+          slices[k0 - 1].arcs = slices[k0].arcs;
+          bottom[k0 - 1] = material_bottom;
+        } else {
+          bottom[k0] = std::max(bottom[k0], material_bottom);
+        }
+      }
+    }
+  }
+  // 3. The arcs of a run's end slices again, where they were found too close
+  // to the material's face. The horizontal rays that answer for the side
+  // test points (the grid along their normal) lie on levels one cell apart,
+  // and a test point between the last level inside the material and the
+  // first outside it reads an interpolation with air: a slot's sides go
+  // missing in its top slice. With the axis vertical, the end slice is
+  // tested again on a ray level inside it (where the interpolation across
+  // levels has no weight); otherwise it takes the arcs of its neighbour in
+  // the run. A run thinner than the level spacing with no level inside it
+  // keeps what its own test found (docs/toolpath.md, "Limits").
+  const bool vertical_axis = std::abs(a.z()) > 1.0 - 1e-12;
+  auto level_inside = [&](double from_h, double to_h) -> std::optional<double> {
+    if (!vertical_axis)
+      return std::nullopt;
+    // Heights above the tip of the z levels i: box.min z + (i + ½) cell.
+    const double cell = stock.cell_size_m(2);
+    const double z_from = tip_m.z() + a.z() * from_h, z_to = tip_m.z() + a.z() * to_h;
+    const double z_mid = 0.5 * (z_from + z_to);
+    const double i = std::round((z_mid - box.min_m.z()) / cell - 0.5);
+    const double z_level = box.min_m.z() + (i + 0.5) * cell;
+    const double h = (z_level - tip_m.z()) * a.z();
+    const double margin = 1e-9;
+    if (h > std::min(from_h, to_h) + margin && h < std::max(from_h, to_h) - margin)
+      return h;
+    return std::nullopt;
+  };
+  for (std::size_t k = 0; k < slices.size(); ++k) {
+    if (slices[k].arc_count == 0)
+      continue;
+    const bool run_top = k + 1 == slices.size() || slices[k + 1].arc_count == 0;
+    const bool run_bottom = k == 0 || slices[k - 1].arc_count == 0;
+    if (!run_top && !run_bottom)
+      continue;
+    if (const auto level = level_inside(bottom[k], top[k])) {
+      if (std::abs(*level - tested_at[k]) > 1e-12 && query.test(*level, scratch)) {
+        query.arcs_into(scratch, slices[k]);
+        tested_at[k] = *level;
+      }
+    } else if (run_top && !run_bottom) {
+      slices[k].arc_count = slices[k - 1].arc_count;
+      slices[k].arcs = slices[k - 1].arcs;
+    } else if (run_bottom && !run_top) {
+      slices[k].arc_count = slices[k + 1].arc_count;
+      slices[k].arcs = slices[k + 1].arcs;
+    }
+  }
 
+  // The slices stay contiguous from the tip (the force model reads each
+  // slice as reaching from the top of the one below to its own top): an
+  // empty slice spans the gap between the engaged slices around it.
+  const std::size_t final_count = slices.size();
+  for (std::size_t k = 0; k + 1 < final_count; ++k) {
+    if (slices[k].arc_count == 0)
+      top[k] = bottom[k + 1];
+  }
+  for (std::size_t k = 1; k < final_count; ++k) {
+    if (slices[k].arc_count == 0)
+      bottom[k] = top[k - 1];
+  }
+
+  // 4. The engagement's figures from the final slices.
+  int highest = -1;
+  double best_width = 0.0, best_angle = -1.0, plunge_section = 0.0;
+  for (std::size_t k = 0; k < slices.size(); ++k) {
+    EngagementSlice& s = slices[k];
+    s.thickness_m = std::max(0.0, top[k] - bottom[k]);
+    s.height_m = 0.5 * (top[k] + bottom[k]);
+    s.radius_m = cutter.radius_at(s.height_m);
+    if (s.arc_count == 0)
+      continue;
+    highest = static_cast<int>(k);
     const double r = s.radius_m;
     double width = 0.0;
-    if (plunge) {
+    if (query.plunge) {
       double lo = 1.0, hi = -1.0;
       for (int m = 0; m < s.arc_count; ++m) {
         double arc_lo = 0.0, arc_hi = 0.0;
@@ -243,7 +467,7 @@ CutterEngagement engagement_at(const DexelStock& stock, const CutterShape& cutte
   slices.resize(static_cast<std::size_t>(highest) + 1);
   result.axial_depth_m = slices.back().height_m + 0.5 * slices.back().thickness_m;
   result.radial_width_m = best_width;
-  if (plunge)
+  if (query.plunge)
     result.section_m2 = plunge_section;
   result.slices = std::move(slices);
   return result;

@@ -84,24 +84,91 @@ Span line_capsule(const Eigen::Matrix<double, N, 1>& p, const Eigen::Matrix<doub
   return out;
 }
 
+// The line q + t e_g inside a bull nose's corner: the points within r_c of
+// the disc of radius R − r_c at height r_c (a torus filled in), below that
+// height. The distance to a convex set is a convex function of t, so the
+// span where it is at most r_c is one interval: its minimum by golden-section
+// search, then each end by bisection, to 1e-12 of the span searched (the
+// torus's quartic has no closed form worth its rounding).
+Span line_torus_corner(const Eigen::Vector3d& w, int g, const Eigen::Vector3d& a, double radius,
+                       double corner, double length) noexcept {
+  const double inner = radius - corner;
+  const double top = std::min(corner, length);
+  // Signed excess of the distance to the disc over r_c at w + t e_g (w from
+  // the tip); points above the corner's top count as outside.
+  auto excess = [&](double t) {
+    Eigen::Vector3d p = w;
+    p[g] += t;
+    const double h = p.dot(a);
+    const double rho = (p - h * a).norm();
+    const double out_radial = std::max(0.0, rho - inner);
+    const double dh = h - corner;
+    return std::max(std::sqrt(dh * dh + out_radial * out_radial) - corner, h - top);
+  };
+  // The corner lies within R of its centre (tip + r_c a): search there.
+  const Eigen::Vector3d wc = w - corner * a;
+  const Span bound = quadratic_at_most_zero(1.0, wc[g], wc.squaredNorm() - radius * radius);
+  if (bound.empty())
+    return {};
+  constexpr double kGolden = 0.6180339887498949;
+  double lo = bound.lo, hi = bound.hi;
+  double x1 = hi - kGolden * (hi - lo), x2 = lo + kGolden * (hi - lo);
+  double f1 = excess(x1), f2 = excess(x2);
+  const double tolerance = 1e-12 * std::max(1.0, bound.hi - bound.lo);
+  while (hi - lo > tolerance && (f1 > 0.0 && f2 > 0.0)) {
+    if (f1 < f2) {
+      hi = x2;
+      x2 = x1;
+      f2 = f1;
+      x1 = hi - kGolden * (hi - lo);
+      f1 = excess(x1);
+    } else {
+      lo = x1;
+      x1 = x2;
+      f1 = f2;
+      x2 = lo + kGolden * (hi - lo);
+      f2 = excess(x2);
+    }
+  }
+  double inside = 0.0;
+  if (f1 <= 0.0) {
+    inside = x1;
+  } else if (f2 <= 0.0) {
+    inside = x2;
+  } else {
+    return {};
+  }
+  auto bisect = [&](double in, double out) {
+    while (std::abs(out - in) > tolerance) {
+      const double mid = 0.5 * (in + out);
+      (excess(mid) <= 0.0 ? in : out) = mid;
+    }
+    return in;
+  };
+  return {bisect(inside, bound.lo), bisect(inside, bound.hi)};
+}
+
 // The axis-aligned line q + t e_g (g ∈ {0, 1, 2}) inside one cutter instance
 // (tip, unit axis a): the cylinder part (radius R, heights [h_corner, L]) and,
-// for a ball end, the lower half ball centred at height R. The solid is
-// convex, so the two spans overlap into one.
+// for a ball end, the lower half ball centred at height R; for a bull nose
+// the torus corner (line_torus_corner). The solid is convex, so the two spans
+// overlap into one.
 Span line_cutter(const Eigen::Vector3d& q, int g, const CutterShape& cutter,
                  const Eigen::Vector3d& tip, const Eigen::Vector3d& a) noexcept {
   const double radius = cutter.radius_m, length = cutter.length_m;
-  const double corner = cutter.is_ball() ? radius : 0.0;
+  const double corner = cutter.is_ball() ? radius : cutter.corner_radius_m;
   const Eigen::Vector3d w = q - tip;
   const double h0 = w.dot(a), ag = a[g];
   const Eigen::Vector3d w_perp = w - h0 * a;
   Span out = intersect(
       quadratic_at_most_zero(1.0 - ag * ag, w_perp[g], w_perp.squaredNorm() - radius * radius),
       slab(h0, ag, corner, length));
-  if (corner > 0.0) {
+  if (cutter.is_ball()) {
     const Eigen::Vector3d ws = w - radius * a;
     out.hull(intersect(quadratic_at_most_zero(1.0, ws[g], ws.squaredNorm() - radius * radius),
                        slab(h0, ag, 0.0, std::min(corner, length))));
+  } else if (corner > 0.0) {
+    out.hull(line_torus_corner(w, g, a, radius, corner, length));
   }
   return out;
 }
@@ -255,6 +322,66 @@ struct DexelAccess {
       return 0;
     const std::size_t ray = static_cast<std::size_t>(iv) * grid.count_u + iu;
     return subtract(grid, ray, static_cast<float>(lo), static_cast<float>(hi)) ? 1 : 0;
+  }
+
+  // The exact sweep of a bull nose whose axis stays +z along a level move
+  // (tip0 and tip1 at one height): on each horizontal plane at height h above
+  // the tip the cutter's section is a disc of radius r(h) (the torus's below
+  // r_c, R above), so it sweeps the stadium of that radius around the
+  // segment; a z ray at distance ρ from the segment meets the solid from the
+  // corner's height over ρ (0 inside R − r_c) up to L.
+  static std::size_t sweep_bull_level(DexelStock& stock, const CutterShape& cutter,
+                                      const Eigen::Vector3d& tip0, const Eigen::Vector3d& tip1) {
+    const StockBox& box = stock.box_;
+    const double radius = cutter.radius_m, length = cutter.length_m;
+    const double corner = cutter.corner_radius_m, inner = radius - corner;
+    const Eigen::Vector2d c0 = tip0.head<2>(), c1 = tip1.head<2>(), s = c1 - c0;
+    const double z0 = tip0.z();
+    Eigen::Vector3d lo = tip0.cwiseMin(tip1) - Eigen::Vector3d(radius, radius, 0.0);
+    Eigen::Vector3d hi = tip0.cwiseMax(tip1) + Eigen::Vector3d(radius, radius, length);
+    lo = lo.cwiseMax(box.min_m);
+    hi = hi.cwiseMin(box.max_m);
+    if ((hi.array() < lo.array()).any())
+      return 0;
+    std::array<IndexRange, 3> range;
+    for (int i = 0; i < 3; ++i)
+      range[i] = centres_within(lo[i], hi[i], box.min_m[i], stock.cell_m_[i], stock.counts_[i]);
+    std::size_t changed = 0;
+    const double length2 = s.squaredNorm();
+    for (int ix = range[0].first; ix <= range[0].last; ++ix) {
+      const double x = stock.cell_centre_m(0, ix);
+      for (int iy = range[1].first; iy <= range[1].last; ++iy) {
+        const Eigen::Vector2d p(x, stock.cell_centre_m(1, iy));
+        const double tau = length2 > 0.0 ? std::clamp((p - c0).dot(s) / length2, 0.0, 1.0) : 0.0;
+        const double rho = (p - (c0 + tau * s)).norm();
+        if (rho > radius)
+          continue;
+        const double out = std::max(0.0, rho - inner);
+        const double bottom = corner - std::sqrt(std::max(0.0, corner * corner - out * out));
+        changed += remove_line(stock, 2, ix, iy, Span{z0 + bottom, z0 + length});
+      }
+    }
+    for (int g = 0; g < 2; ++g) {
+      const int across = 1 - g;
+      const Grid& grid = stock.grids_[g];
+      for (int iz = range[2].first; iz <= range[2].last; ++iz) {
+        const double h = stock.cell_centre_m(2, iz) - z0;
+        const double section_radius = cutter.radius_at(h);
+        if (h < 0.0 || h > length || !(section_radius > 0.0))
+          continue;
+        for (int ia = range[across].first; ia <= range[across].last; ++ia) {
+          Eigen::Vector2d p = Eigen::Vector2d::Zero(), e = Eigen::Vector2d::Zero();
+          p[across] = stock.cell_centre_m(across, ia);
+          e[g] = 1.0;
+          const Span along = line_capsule<2>(p, e, c0, c1, section_radius);
+          if (along.empty())
+            continue;
+          const int iu = grid.u == 2 ? iz : ia, iv = grid.v == 2 ? iz : ia;
+          changed += remove_line(stock, g, iu, iv, along);
+        }
+      }
+    }
+    return changed;
   }
 
   // The exact sweep of a cutter whose axis stays +z from tip0 to tip1: at
@@ -497,8 +624,14 @@ std::size_t DexelStock::remove_sweep(const CutterShape& cutter, const Eigen::Vec
   // The exact sweep needs the ball's upper half inside the shank (L ≥ 2R).
   const bool vertical = (a0 - up).norm() < 1e-9 && (a1 - up).norm() < 1e-9 &&
                         (!cutter.is_ball() || cutter.length_m >= 2.0 * cutter.radius_m);
-  if (vertical)
+  if (vertical && cutter.is_bull()) {
+    // A bull nose's level moves exactly; its ramps as instances (the torus
+    // swept along a slanted line has no closed form here).
+    if (std::abs(tip1_m.z() - tip0_m.z()) <= 1e-12)
+      return DexelAccess::sweep_bull_level(*this, cutter, tip0_m, tip1_m);
+  } else if (vertical) {
     return DexelAccess::sweep_vertical(*this, cutter, tip0_m, tip1_m);
+  }
 
   // Instances: no point of the cutter moves more than a quarter cell between
   // two (the tip by |Δtip|, the far end by at most |Δtip| + θ L).
@@ -547,6 +680,59 @@ double DexelStock::material_depth_m(const Eigen::Vector3d& point_m,
   };
   return (1.0 - wv) * ((1.0 - wu) * depth(iu0, iv0) + wu * depth(iu0 + 1, iv0)) +
          wv * ((1.0 - wu) * depth(iu0, iv0 + 1) + wu * depth(iu0 + 1, iv0 + 1));
+}
+
+std::optional<DexelStock::MaterialRun> DexelStock::material_run(
+    const Eigen::Vector3d& point_m, const Eigen::Vector3d& direction) const noexcept {
+  if (!point_m.allFinite() || !direction.allFinite())
+    return std::nullopt;
+  int g = 2;
+  const Eigen::Vector3d n = direction.cwiseAbs();
+  if (n.x() > n.y() && n.x() > n.z()) {
+    g = 0;
+  } else if (n.y() > n.z()) {
+    g = 1;
+  }
+  const double along = direction[g];
+  if (!(std::abs(along) > 0.0))
+    return std::nullopt;
+  const Grid& grid = grids_[g];
+  const double fu = (point_m[grid.u] - box_.min_m[grid.u]) / cell_m_[grid.u] - 0.5;
+  const double fv = (point_m[grid.v] - box_.min_m[grid.v]) / cell_m_[grid.v] - 0.5;
+  const double t = point_m[g] - box_.min_m[g];
+  // The ray nearest the point first; where it holds no material there (the
+  // point within half a cell of a wall), the next nearest of the four around
+  // it that does.
+  const long u0 = static_cast<long>(std::floor(fu)), v0 = static_cast<long>(std::floor(fv));
+  std::array<std::pair<long, long>, 4> rays{
+      {{u0, v0}, {u0 + 1, v0}, {u0, v0 + 1}, {u0 + 1, v0 + 1}}};
+  auto distance2 = [&](const std::pair<long, long>& ray) {
+    const double du = ray.first - fu, dv = ray.second - fv;
+    return du * du + dv * dv;
+  };
+  std::sort(rays.begin(), rays.end(),
+            [&](const auto& a, const auto& b) { return distance2(a) < distance2(b); });
+  for (const auto& [iu, iv] : rays) {
+    if (iu < 0 || iv < 0 || iu >= grid.count_u || iv >= grid.count_v)
+      continue;
+    const auto list =
+        DexelAccess::intervals(grid, static_cast<std::size_t>(iv) * grid.count_u + iu);
+    for (std::size_t k = 0; k < list.size; ++k) {
+      const double from = list.data[k].from_m, to = list.data[k].to_m;
+      if (t < from)
+        break;
+      if (t > to)
+        continue;
+      // Ray distances to the interval's ends, turned into distances along
+      // `direction` for a face normal to the ray.
+      const double scale = 1.0 / std::abs(along);
+      MaterialRun run;
+      run.before_m = (along > 0.0 ? t - from : to - t) * scale;
+      run.after_m = (along > 0.0 ? to - t : t - from) * scale;
+      return run;
+    }
+  }
+  return std::nullopt;
 }
 
 bool DexelStock::contains(const Eigen::Vector3d& point_m,

@@ -77,6 +77,14 @@ void compute_loads(const cutting::CuttingLaw& law, const SampleGeometry& geometr
   general.feed_per_tooth_m = sample.feed_per_tooth_m;
   general.axial_feed_per_tooth_m = geometry.axial_feed_per_tooth_m;
   general.axial_depth_m = std::min(engagement.axial_depth_m, tool.overhang_m());
+  // The edge below the lowest engaged slice is in air (the tip below the
+  // material): the elements start at that slice's bottom.
+  for (const EngagementSlice& slice : engagement.slices) {
+    if (slice.arc_count > 0) {
+      general.edge_from_m = slice.height_m - 0.5 * slice.thickness_m;
+      break;
+    }
+  }
   general.slice_top_m.reserve(engagement.slices.size());
   general.arcs.reserve(engagement.slices.size());
   for (const EngagementSlice& slice : engagement.slices) {
@@ -86,7 +94,8 @@ void compute_loads(const cutting::CuttingLaw& law, const SampleGeometry& geometr
       arcs.push_back({slice.arcs[a].entry_rad, slice.arcs[a].exit_rad});
   }
   const cutting::MillingForceModel model(
-      tool, law, general, cutting::default_axial_elements(tool, general.axial_depth_m));
+      tool, law, general,
+      cutting::default_axial_elements(tool, general.axial_depth_m - general.edge_from_m));
   const bool runout = tool.runout().offset_m > 0.0;
   const int steps = steps_per_tooth * (runout ? tool.teeth() : 1);
   const double period_rad = kTwoPi / (runout ? 1.0 : static_cast<double>(tool.teeth()));
@@ -399,10 +408,14 @@ ProgramAnalysis analyse_program(const Program& program, const Tooling& tooling,
                          "the job");
       }
       sample.analysed = true;
-      if (sample.plunge && !cutter->shape.is_ball())
+      if (sample.plunge && !cutter->shape.has_corner())
         warnings.add(move.line,
                      "a flat end mill plunges along its axis: the end teeth's cut is not "
                      "modelled (side-edge forces only)");
+      else if (sample.plunge && cutter->shape.is_bull())
+        warnings.add(move.line,
+                     "a bull-nose end mill plunges along its axis: its corner's cut is "
+                     "modelled, the flat end's inside R - r is not");
     }
   }
   flush();

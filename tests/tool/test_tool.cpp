@@ -113,4 +113,73 @@ TEST(EdgeDiscretization, CoversTheDepthAndTheBallArc) {
   EXPECT_THROW(discretize_edge(tool, 1e-3, 0), std::invalid_argument);
 }
 
+// Issue 31, point 2: a bull-nose (torus) end mill. Its corner is a quarter
+// circle of radius r_c centred at radius R − r_c, height r_c: 001 Eq 1 with
+// the corner's circle, z = r_c (1 − cos κ), r = R − r_c + r_c sin κ.
+ToolSpec bull_spec(double corner_m) {
+  ToolSpec spec;
+  spec.type = ToolType::bull;
+  spec.diameter_m = 12e-3;
+  spec.teeth = 4;
+  spec.helix_rad = 30.0 * kDeg;
+  spec.overhang_m = 40e-3;
+  spec.corner_radius_m = corner_m;
+  return spec;
+}
+
+TEST(Tool, BullNoseCornerFollowsItsCircle) {
+  const Tool tool(bull_spec(2e-3));
+  EXPECT_DOUBLE_EQ(tool.corner_radius_m(), 2e-3);
+  const double kappa = 35.0 * kDeg, z = 2e-3 * (1.0 - std::cos(kappa));
+  EXPECT_NEAR(tool.axial_immersion_rad(z), kappa, 1e-12);
+  EXPECT_NEAR(tool.edge_radius_m(z), 4e-3 + 2e-3 * std::sin(kappa), 1e-15);
+  EXPECT_DOUBLE_EQ(tool.axial_immersion_rad(2.5e-3), 0.5 * kPi);
+  EXPECT_DOUBLE_EQ(tool.edge_radius_m(2.5e-3), 6e-3);
+  // The flat and ball ends as the corner's limits.
+  EXPECT_DOUBLE_EQ(Tool(ball_spec()).corner_radius_m(), 4e-3);
+  ToolSpec flat = bull_spec(0.0);
+  flat.type = ToolType::flat;
+  EXPECT_DOUBLE_EQ(Tool(flat).corner_radius_m(), 0.0);
+  // Not a bull nose: no corner, or one larger than the radius.
+  EXPECT_THROW(Tool(bull_spec(0.0)), std::invalid_argument);
+  EXPECT_THROW(Tool(bull_spec(6.1e-3)), std::invalid_argument);
+  EXPECT_THROW(Tool(bull_spec(-1e-3)), std::invalid_argument);
+  EXPECT_NO_THROW(Tool(bull_spec(6e-3)));
+}
+
+TEST(EdgeDiscretization, BullNoseCornerThenCylinder) {
+  const Tool tool(bull_spec(2e-3));
+  // 1.3 mm: inside the corner. The chip widths add up to r_c κ_max.
+  const auto corner_only = discretize_edge(tool, 1.3e-3, 400);
+  double depth = 0.0, arc = 0.0;
+  for (const auto& element : corner_only) {
+    depth += element.axial_length_m;
+    arc += element.chip_width_m;
+    EXPECT_LT(element.kappa_rad, 0.5 * kPi);
+  }
+  EXPECT_NEAR(depth, 1.3e-3, 1e-15);
+  EXPECT_NEAR(arc, 2e-3 * std::acos(1.0 - 1.3 / 2.0), 1e-15);
+  // 5 mm: the whole corner (r_c π/2) and 3 mm of cylinder.
+  const auto whole = discretize_edge(tool, 5e-3, 400);
+  depth = arc = 0.0;
+  for (const auto& element : whole) {
+    depth += element.axial_length_m;
+    arc += element.chip_width_m;
+  }
+  EXPECT_NEAR(depth, 5e-3, 1e-15);
+  EXPECT_NEAR(arc, 2e-3 * kPi / 2.0 + 3e-3, 1e-15);
+  // Between two heights: the part of the edge above a tip in air.
+  const auto upper = discretize_edge(tool, 1.1e-3, 4.2e-3, 300);
+  depth = arc = 0.0;
+  for (const auto& element : upper) {
+    depth += element.axial_length_m;
+    arc += element.chip_width_m;
+    EXPECT_GE(element.height_m, 1.1e-3);
+    EXPECT_LE(element.height_m, 4.2e-3);
+  }
+  EXPECT_NEAR(depth, 3.1e-3, 1e-15);
+  EXPECT_NEAR(arc, 2e-3 * (0.5 * kPi - std::acos(1.0 - 1.1 / 2.0)) + 2.2e-3, 1e-15);
+  EXPECT_THROW(discretize_edge(tool, 2e-3, 1e-3, 10), std::invalid_argument);
+}
+
 }  // namespace

@@ -267,4 +267,72 @@ TEST(DexelStock, MemoryGrowsWithTheStockNotTheProgram) {
   EXPECT_LT(after_one, 2 * 12 * rays);
 }
 
+// Issue 31, point 2: a bull nose (corner r_c between 0 and R) in the stock.
+// Buried at any axis it removes its own volume, π R² (L − r_c) plus the
+// corner's solid of revolution π [R'² r_c + R' π r_c² / 2 + 2 r_c³ / 3]
+// (R' = R − r_c), through the numerical ray-torus search; a level groove
+// (the exact stadium sweep) and the same groove as instances (the search)
+// remove the same volume.
+CutterShape bull(double radius_m, double corner_m, double length_m = 30e-3) {
+  return {radius_m, corner_m, length_m};
+}
+
+TEST(DexelStock, BuriedBullNoseRemovesItsVolumeAtAnyAxis) {
+  const double radius = 5e-3, corner = 1.7e-3, length = 12e-3, res = 0.2e-3;
+  const double inner = radius - corner;
+  const double expected = kPi * radius * radius * (length - corner) +
+                          kPi * (inner * inner * corner + inner * kPi * corner * corner / 2 +
+                                 2 * corner * corner * corner / 3);
+  for (const Vector3d& axis : {Vector3d(0, 0, 1), Vector3d(0.3, -0.2, 1).normalized(),
+                               Vector3d(1, 0.4, 0.2).normalized()}) {
+    DexelStock stock(box_mm(0, 0, 0, 40, 40, 40), res);
+    const double before = stock.volume_m3();
+    const Vector3d tip = Vector3d(20.03e-3, 19.91e-3, 20.07e-3) - 0.5 * length * axis;
+    stock.remove(bull(radius, corner, length), tip, axis);
+    const double area = 2 * kPi * radius * length + 2 * kPi * radius * radius;
+    EXPECT_NEAR(before - stock.volume_m3(), expected, area * res / 4) << axis.transpose();
+  }
+}
+
+TEST(DexelStock, BullNoseGrooveExactAndAsInstancesAgree) {
+  // The groove's section at depth e < r_c: 2 [R' e + ∫ √(r_c² − u²) du over
+  // [r_c − e, r_c]]; over a long groove the ends are a small share, bounded
+  // here by the volume of a whole bull-nose end cap at each end.
+  const double radius = 4e-3, corner = 1.5e-3, e = 1.1e-3, res = 0.2e-3, length = 30e-3;
+  const Vector3d start(10e-3, 10.05e-3, 8e-3 - e), end = start + Vector3d(length, 0, 0);
+  DexelStock exact(box_mm(0, 0, 0, 50, 20, 8), res), instances = exact;
+  const double before = exact.volume_m3();
+  exact.remove_sweep(bull(radius, corner), start, Vector3d::UnitZ(), end, Vector3d::UnitZ());
+  const Vector3d tilted = Vector3d(1e-7, 0, 1).normalized();
+  instances.remove_sweep(bull(radius, corner), start, tilted, end, tilted);
+  auto antiderivative = [&](double u) {
+    return 0.5 * u * std::sqrt(corner * corner - u * u) +
+           0.5 * corner * corner * std::asin(u / corner);
+  };
+  const double section =
+      2 * ((radius - corner) * e + antiderivative(corner) - antiderivative(corner - e));
+  const double removed = before - exact.volume_m3();
+  EXPECT_GT(removed, section * length);
+  EXPECT_LT(removed, section * length + kPi * radius * radius * e);
+  EXPECT_NEAR(before - instances.volume_m3(), removed,
+              (2 * length + 2 * kPi * radius) * e * res / 4);
+}
+
+// DexelStock::material_run: the z ray gives the material's ends along any
+// direction through a flat top and floor, the ray's distance divided by the
+// direction's z share.
+TEST(DexelStock, MaterialRunAlongATiltedDirection) {
+  DexelStock stock(box_mm(0, 0, 0, 30, 30, 10.37), 0.5e-3);
+  const Vector3d point(15.1e-3, 14.8e-3, 4.2e-3);
+  const auto up = stock.material_run(point, Vector3d::UnitZ());
+  ASSERT_TRUE(up.has_value());
+  EXPECT_NEAR(up->after_m, 6.17e-3, 1e-8);
+  EXPECT_NEAR(up->before_m, 4.2e-3, 1e-8);
+  const Vector3d tilted = Vector3d(0.3, -0.2, 1).normalized();
+  const auto along = stock.material_run(point, tilted);
+  ASSERT_TRUE(along.has_value());
+  EXPECT_NEAR(along->after_m, 6.17e-3 / tilted.z(), 1e-8);
+  EXPECT_FALSE(stock.material_run(Vector3d(15e-3, 15e-3, 11e-3), Vector3d::UnitZ()).has_value());
+}
+
 }  // namespace

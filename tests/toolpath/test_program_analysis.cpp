@@ -135,6 +135,211 @@ TEST(ProgramAnalysis, SlotForcesAreThoseOfTheForcesCommand) {
   EXPECT_NEAR(result.analysis.volume_removed_m3, expected, 0.01 * expected);
 }
 
+// The mean loads of `robomill forces` for a slot of depth ap with this cutter.
+cutting::ForceStatistics forces_command_slot(const tool::Tool& cutter, double ap) {
+  cutting::MillingProcess process;
+  process.spindle_rad_s = kSpindle;
+  process.feed_per_tooth_m = kFeed / (cutter.teeth() * 8000.0 / 60.0);
+  process.axial_depth_m = ap;
+  process.radial_depth_m = cutter.diameter_m();
+  const cutting::MillingForceModel model(cutter, aluminium(), process,
+                                         cutting::default_axial_elements(cutter, ap));
+  return cutting::summarize(cutting::sample_forces(model, {1, 90}, 1), kSpindle);
+}
+
+// Issue 31, point 1: the depth of cut is the program's, not the slice
+// grid's. Slots 0.3, 0.6, 1.1 and 2.2 mm deep (not multiples of the 0.25 or
+// 0.5 mm slices) under a stock top at 20.137 mm (not on any grid line), at
+// 0.5 and 0.25 mm resolution: ap, the chip area, the section and the mean
+// force of every sample in the steady part of the slot equal the program's
+// depth and `robomill forces` for a slot of that depth. Before: ap 0.5 mm
+// for the 0.6 mm slot (forces −16.6 %), the 0.3 mm slot unseen at 0.5 mm.
+// Tolerances: ap within 0.1 µm (the stock's float ray coordinates on a
+// 20 mm box round to 2 nm; the issue asks 1 %); the mean force within 0.2 %
+// (the issue asks 1.5 %; what is left is the force samples' rotation
+// steps, the same in both); section and chip area within 0.1 %.
+struct SlotCase {
+  double depth_mm, resolution_mm;
+};
+class ExactSlotDepth : public ::testing::TestWithParam<SlotCase> {};
+
+TEST_P(ExactSlotDepth, DepthAndForcesAreTheProgramsWhateverTheGrid) {
+  const auto [depth_mm, resolution_mm] = GetParam();
+  const tool::Tool cutter = flat_tool(10e-3, 3, 30.0);
+  const double ap = depth_mm * 1e-3, top = 20.137e-3;
+  DexelStock stock({Eigen::Vector3d(0, -20e-3, 0), Eigen::Vector3d(60e-3, 20e-3, top)},
+                   resolution_mm * 1e-3);
+  Program program;
+  program.moves.push_back(
+      line_move({-10e-3, 0, top - ap}, {-10e-3, 0, top - ap}, kFeed, kSpindle, MotionKind::rapid));
+  program.moves.push_back(line_move({-10e-3, 0, top - ap}, {50e-3, 0, top - ap}, kFeed, kSpindle));
+  ProgramAnalysisSettings settings;
+  settings.force_steps_per_tooth = 90;
+  const ProgramRun result = run(program, cutter, stock, settings);
+  const cutting::ForceStatistics stats = forces_command_slot(cutter, ap);
+  const double fz = kFeed / (3 * 8000.0 / 60.0);
+
+  int checked = 0;
+  for (const PathSample& s : result.samples) {
+    if (s.kind != MotionKind::linear || s.tip_m.x() < 10e-3 || s.tip_m.x() > 40e-3)
+      continue;
+    ++checked;
+    ASSERT_TRUE(s.analysed) << "x = " << s.tip_m.x();
+    EXPECT_NEAR(s.axial_depth_m, ap, 1e-7) << "x = " << s.tip_m.x();
+    EXPECT_NEAR(s.section_m2, cutter.diameter_m() * ap, 1e-3 * cutter.diameter_m() * ap);
+    // Mean Σ h b over a tooth period of a slot: N fz 2 ap / (2π) (h = fz
+    // sin φ, b = dz, and a slot's ∫ sin φ dφ over [0, π] is 2).
+    const double chip_area = 3 * fz * 2.0 * ap / (2.0 * kPi);
+    EXPECT_NEAR(s.chip_area_m2, chip_area, 1e-3 * chip_area);
+    EXPECT_NEAR(s.force_mean_n.x(), stats.mean_n.x(), 2e-3 * stats.mean_n.norm());
+    EXPECT_NEAR(s.force_mean_n.y(), stats.mean_n.y(), 2e-3 * stats.mean_n.norm());
+    EXPECT_NEAR(s.force_mean_n.z(), stats.mean_n.z(), 2e-3 * stats.mean_n.norm());
+    EXPECT_NEAR(s.power_w, stats.mean_power_w, 2e-3 * std::abs(stats.mean_power_w));
+  }
+  EXPECT_GT(checked, 20);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    IssueDepths, ExactSlotDepth,
+    ::testing::Values(SlotCase{0.3, 0.5}, SlotCase{0.6, 0.5}, SlotCase{1.1, 0.5},
+                      SlotCase{2.2, 0.5}, SlotCase{0.3, 0.25}, SlotCase{0.6, 0.25},
+                      SlotCase{1.1, 0.25}, SlotCase{2.2, 0.25},
+                      // thinner than half a 0.5 mm slice
+                      SlotCase{0.12, 0.5}, SlotCase{0.07, 0.25}),
+    [](const ::testing::TestParamInfo<SlotCase>& info) {
+      return "ap" + std::to_string(static_cast<int>(std::lround(info.param.depth_mm * 1000))) +
+             "um_res" +
+             std::to_string(static_cast<int>(std::lround(info.param.resolution_mm * 1000))) + "um";
+    });
+
+// A slot through a 3.37 mm plate with the tip 1.13 mm below it (a profile
+// cut through the part, as CAM writes it): the engaged edge runs from the
+// plate's bottom to its top, 1.13 … 4.50 mm above the tip, whatever the
+// slices. The mean force is that of a 3.37 mm slot (the helix lag only
+// shifts each element's phase, which the mean over a tooth period does not
+// see); ap is measured from the tip.
+TEST(ProgramAnalysis, ThroughSlotEngagesThePlateOnly) {
+  const tool::Tool cutter = flat_tool(10e-3, 3, 30.0);
+  const double plate = 3.37e-3, below = 1.13e-3;
+  DexelStock stock({Eigen::Vector3d(0, -20e-3, 0), Eigen::Vector3d(60e-3, 20e-3, plate)}, 0.5e-3);
+  Program program;
+  program.moves.push_back(
+      line_move({-10e-3, 0, -below}, {-10e-3, 0, -below}, kFeed, kSpindle, MotionKind::rapid));
+  program.moves.push_back(line_move({-10e-3, 0, -below}, {50e-3, 0, -below}, kFeed, kSpindle));
+  ProgramAnalysisSettings settings;
+  settings.force_steps_per_tooth = 90;
+  const ProgramRun result = run(program, cutter, stock, settings);
+  const cutting::ForceStatistics stats = forces_command_slot(cutter, plate);
+  int checked = 0;
+  for (const PathSample& s : result.samples) {
+    if (s.kind != MotionKind::linear || s.tip_m.x() < 10e-3 || s.tip_m.x() > 40e-3)
+      continue;
+    ++checked;
+    EXPECT_NEAR(s.axial_depth_m, plate + below, 1e-7);
+    EXPECT_NEAR(s.section_m2, cutter.diameter_m() * plate, 1e-3 * cutter.diameter_m() * plate);
+    EXPECT_NEAR(s.force_mean_n.x(), stats.mean_n.x(), 1e-2 * stats.mean_n.norm());
+    EXPECT_NEAR(s.force_mean_n.y(), stats.mean_n.y(), 1e-2 * stats.mean_n.norm());
+    EXPECT_NEAR(s.power_w, stats.mean_power_w, 1e-2 * std::abs(stats.mean_power_w));
+  }
+  EXPECT_GT(checked, 20);
+}
+
+tool::Tool shaped_tool(tool::ToolType type, double corner_m) {
+  tool::ToolSpec spec;
+  spec.type = type;
+  spec.diameter_m = 10e-3;
+  spec.teeth = 3;
+  spec.helix_rad = 30.0 * kDeg;
+  spec.overhang_m = 40e-3;
+  spec.corner_radius_m = corner_m;
+  return tool::Tool(spec);
+}
+
+// One straight slot of depth ap through a fresh stock whose top is 20.137 mm;
+// the samples of its steady middle.
+std::vector<PathSample> steady_slot(const tool::Tool& cutter, double ap, double resolution_m) {
+  const double top = 20.137e-3;
+  DexelStock stock({Eigen::Vector3d(0, -20e-3, 0), Eigen::Vector3d(60e-3, 20e-3, top)},
+                   resolution_m);
+  Program program;
+  program.moves.push_back(
+      line_move({-10e-3, 0, top - ap}, {-10e-3, 0, top - ap}, kFeed, kSpindle, MotionKind::rapid));
+  program.moves.push_back(line_move({-10e-3, 0, top - ap}, {50e-3, 0, top - ap}, kFeed, kSpindle));
+  ProgramAnalysisSettings settings;
+  settings.force_steps_per_tooth = 90;
+  std::vector<PathSample> steady;
+  for (const PathSample& s : run(program, cutter, stock, settings).samples) {
+    if (s.kind == MotionKind::linear && s.tip_m.x() >= 10e-3 && s.tip_m.x() <= 40e-3)
+      steady.push_back(s);
+  }
+  return steady;
+}
+
+// Issue 31, point 2, along a program: a bull nose with a 0.001 mm corner
+// cuts the flat end mill's slot and one with R − 0.001 mm the ball's: the
+// same ap, section and mean loads to 0.1 % (the dexel sweeps, engagement
+// probes and force elements of the torus against those of the cylinder and
+// the sphere).
+TEST(ProgramAnalysis, BullNoseLimitsAlongAProgram) {
+  struct Limit {
+    tool::Tool bull, reference;
+    std::string name;
+  };
+  const std::vector<Limit> limits = {
+      {shaped_tool(tool::ToolType::bull, 0.001e-3), shaped_tool(tool::ToolType::flat, 0.0), "flat"},
+      {shaped_tool(tool::ToolType::bull, 5e-3 - 0.001e-3), shaped_tool(tool::ToolType::ball, 0.0),
+       "ball"}};
+  for (const Limit& limit : limits) {
+    for (const double ap : {1.3e-3, 6.7e-3}) {
+      const std::vector<PathSample> bull = steady_slot(limit.bull, ap, 0.25e-3);
+      const std::vector<PathSample> reference = steady_slot(limit.reference, ap, 0.25e-3);
+      ASSERT_EQ(bull.size(), reference.size());
+      ASSERT_GT(bull.size(), 20u);
+      for (std::size_t i = 0; i < bull.size(); ++i) {
+        const PathSample &b = bull[i], &r = reference[i];
+        SCOPED_TRACE(limit.name + " limit, ap " + std::to_string(ap * 1e3) + " mm, x " +
+                     std::to_string(b.tip_m.x() * 1e3) + " mm");
+        EXPECT_NEAR(b.axial_depth_m, r.axial_depth_m, 1e-7);
+        EXPECT_NEAR(b.section_m2, r.section_m2, 1e-3 * r.section_m2);
+        EXPECT_LE((b.force_mean_n - r.force_mean_n).norm(), 1e-3 * r.force_mean_n.norm());
+        EXPECT_NEAR(b.power_w, r.power_w, 1e-3 * r.power_w);
+      }
+    }
+  }
+}
+
+// A bull nose's slot shallower than its corner (r_c = 2.5 mm, ap 1.37 mm):
+// the cross-section is the area under the corner's profile,
+//   S = 2 [(R − r_c) ap + ∫ √(r_c² − u²) du over u ∈ [r_c − ap, r_c]],
+// every slice above the lowest engages the whole front half, and the power
+// and mean force are those of `robomill forces` for the same slot.
+// Tolerances: the section 0.5 % (slices at 0.25 mm take r at their centres:
+// the midpoint rule on a profile with a square root at the tip); power and
+// force 3 %: the lowest slice, where the corner is almost flat (κ 18°), is
+// tested on the vertical rays (its normal is mostly axial), which place the
+// slot's side walls only to a cell, and it misses 0.15 rad at each side
+// (measured: power −2.5 %, docs/toolpath.md "Limits"; a ball end has the
+// same, which the limit test above shares).
+TEST(ProgramAnalysis, BullNoseSlotInsideTheCornerMatchesItsClosedForm) {
+  const double radius = 5e-3, corner = 2.5e-3, ap = 1.37e-3;
+  const tool::Tool bull = shaped_tool(tool::ToolType::bull, corner);
+  const std::vector<PathSample> samples = steady_slot(bull, ap, 0.25e-3);
+  ASSERT_GT(samples.size(), 20u);
+  auto antiderivative = [&](double u) {
+    return 0.5 * u * std::sqrt(corner * corner - u * u) +
+           0.5 * corner * corner * std::asin(u / corner);
+  };
+  const double section =
+      2.0 * ((radius - corner) * ap + antiderivative(corner) - antiderivative(corner - ap));
+  const cutting::ForceStatistics stats = forces_command_slot(bull, ap);
+  for (const PathSample& s : samples) {
+    EXPECT_NEAR(s.axial_depth_m, ap, 1e-7);
+    EXPECT_NEAR(s.section_m2, section, 5e-3 * section);
+    EXPECT_NEAR(s.power_w, stats.mean_power_w, 3e-2 * stats.mean_power_w);
+    EXPECT_LE((s.force_mean_n - stats.mean_n).norm(), 3e-2 * stats.mean_n.norm());
+  }
+}
+
 // A side cut of width ae along a straight edge of the stock, down milling
 // (material on the −y side, cutting/engagement.hpp): the engaged arc is
 // [acos(ae/R − 1), π]. Tolerance: the angle grid's step plus the dexel
@@ -268,8 +473,13 @@ TEST(ProgramAnalysis, HelicalRampCutsItsPitchPerTurn) {
     if (s.line != 2 || s.tip_m.z() > top - 1.2 * pitch)  // after the first turn
       continue;
     ++checked;
-    // ap is measured from the tip to the top of the highest engaged slice.
-    EXPECT_NEAR(s.axial_depth_m, pitch, grid.slice_height_m + 1e-9) << "z = " << s.tip_m.z();
+    // ap is measured from the tip to where the material ends along the axis
+    // at the middle of the top slice's arcs (issue 31). The ramp's top is not
+    // flat: an arc beside the bore's wall reads the material on up to a cell
+    // above the next slice's test height, which found none (measured: up to
+    // 0.72 mm on this 0.5 mm pitch): within a slice and a dexel cell.
+    EXPECT_NEAR(s.axial_depth_m, pitch, grid.slice_height_m + resolution + 1e-9)
+        << "z = " << s.tip_m.z();
   }
   EXPECT_GT(checked, 10);
 }

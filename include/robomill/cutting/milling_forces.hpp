@@ -28,8 +28,12 @@ struct GeneralEngagement {
   double spindle_rad_s = 0.0;
   double feed_per_tooth_m = 0.0;        ///< normal to the axis, along tool x
   double axial_feed_per_tooth_m = 0.0;  ///< along +z (towards the spindle); < 0 plunging
-  /// The edge from the tip up to this height is discretized (ap).
+  /// The edge from `edge_from_m` up to this height is discretized (ap,
+  /// measured from the tip).
   double axial_depth_m = 0.0;
+  /// Below this height the edge is in air (the tip below the material): the
+  /// elements start here, so they end where the engaged slices do.
+  double edge_from_m = 0.0;
   /// Engaged arcs at height z above the tip: `arcs_at(z)` returns them.
   std::vector<double> slice_top_m;            ///< upper end of each slice, increasing
   std::vector<std::vector<Engagement>> arcs;  ///< per slice, each arc in [0, 2π)

@@ -112,4 +112,9 @@ struct EdgeElement {
 /// the overhang, or count < 1.
 std::vector<EdgeElement> discretize_edge(const Tool& tool, double axial_depth_m, int count);
 
+/// The same for the edge between heights `from_m` and `to_m` above the tip
+/// (0 ≤ from < to ≤ overhang): the part of the edge a cut engages when the
+/// tip is below the material (a profile through a plate).
+std::vector<EdgeElement> discretize_edge(const Tool& tool, double from_m, double to_m, int count);
+
 }  // namespace robomill::tool

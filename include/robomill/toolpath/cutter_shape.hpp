@@ -1,8 +1,8 @@
 #pragma once
 // The solid a milling cutter sweeps: what material removal and engagement see
 // of a tool/tool.hpp cutter (flat end: a cylinder; ball end: a cylinder on a
-// hemisphere; bull nose: a cylinder whose end is rounded by a torus corner). Tool frame as in tool.hpp: origin at the tip, z along the axis
-// towards the spindle.
+// hemisphere; bull nose: a cylinder whose end is rounded by a torus corner). Tool frame as in
+// tool.hpp: origin at the tip, z along the axis towards the spindle.
 
 #include "robomill/tool/tool.hpp"
 

@@ -14,6 +14,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "robomill/toolpath/cutter_shape.hpp"
@@ -76,6 +77,22 @@ class DexelStock {
   /// half-cell snapping of the nearest ray alone.
   double material_depth_m(const Eigen::Vector3d& point_m,
                           const Eigen::Vector3d& normal) const noexcept;
+
+  /// The stretch of material through a point along a direction, from the
+  /// ray nearest the point of the grid most nearly along `direction` (or,
+  /// where that ray holds no material there, the nearest of the four around
+  /// the point that does): how far
+  /// (measured along `direction`, unit) the material goes on before and
+  /// after the point. Exact where the material ends in a face normal to
+  /// that ray (a flat floor or top under a tilted axis too: the ray's
+  /// distance is divided by |direction · ray|); to the grid spacing across
+  /// the ray. Empty when that ray holds no material at the point.
+  struct MaterialRun {
+    double before_m = 0.0;  ///< back along −direction to the material's end
+    double after_m = 0.0;   ///< on along +direction to the material's end
+  };
+  std::optional<MaterialRun> material_run(const Eigen::Vector3d& point_m,
+                                          const Eigen::Vector3d& direction) const noexcept;
 
   /// Material volume (m³), from the z rays (each ray's length × cell area).
   double volume_m3() const noexcept;
