@@ -54,6 +54,10 @@
 //    speed), so never in force: accepted as no-ops (G97 S is rpm, as S is
 //    always read). G92.1 also clears G92 offsets a control kept from an earlier
 //    program, which is what we assume anyway.
+//  * M6 stops the spindle, as rs274 and the controls do: the moves after a
+//    tool change and before the next M3/M4 have the spindle at rest (a
+//    LinuxCNC user's program, tests/toolpath/gcode/others, rapids to the
+//    next start before turning the spindle on).
 //  * M2/M30 end the program; later lines are not read (note). `/` block
 //    delete executes the block (a control with the switch off; rs274's
 //    default), with a note.
@@ -789,6 +793,9 @@ void Interpreter::change_tool(const Decoded& d) {
     note(line_, "M6 with no T selected: the spindle holds no known tool (tool 0)");
   tool_ = selected_tool_.value_or(0);
   program_.tool_calls.push_back({tool_, line_, std::nullopt, std::nullopt});
+  // The control stops the spindle to change the tool (rs274, Fanuc, Haas);
+  // it turns again at the next M3/M4, which a block's own M3 after M6 is.
+  spindle_direction_ = 0;
 }
 
 void Interpreter::dwell(const Decoded& d) {

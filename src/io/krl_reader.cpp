@@ -22,8 +22,17 @@
 //    angle, degrees) sets the sweep from the start: positive in the sense
 //    start → aux → end, negative against it; the end point then only fixes
 //    the circle.
-//  * FOR loops with an integer counter (STEP a constant) are unrolled;
-//    WHILE, IF, LOOP, REPEAT, SWITCH, GOTO and subroutine calls are refused.
+//  * FOR loops with an integer counter (STEP a constant) are unrolled, and so
+//    are WHILE ... ENDWHILE and REPEAT ... UNTIL, and IF ... [ELSE] ENDIF is
+//    taken, when the condition compares INT values (I <= N, I == 3 ...): the
+//    usual way a program walks a FRAME array (P[I] in the .dat) is one of
+//    these. A condition on inputs, BOOL or REAL values (WHILE $IN[1], IF
+//    DONE) is refused, as are LOOP, SWITCH, GOTO, EXIT and subroutine calls.
+//    Every unrolled statement counts against max_executed_statements, so a
+//    loop that never ends is an error, not a hang.
+//  * REAL variables given a literal value (DECL REAL FEED=0.04) may stand for
+//    the speed in $VEL.CP = FEED; frame components (P[I].Z = ...) are not
+//    assigned: REAL arithmetic is not modelled.
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -197,6 +206,10 @@ struct Loop {
   std::size_t body = 0;  // index of the first statement of the body
 };
 
+/// INT comparison operators of a KRL condition, longest first so "<=" is not
+/// read as "<".
+constexpr std::array<std::string_view, 6> kComparisons = {"<=", ">=", "==", "<>", "<", ">"};
+
 class KrlReader {
  public:
   explicit KrlReader(const KrlOptions& options) : options_(options) { program_.dialect = "krl"; }
@@ -222,6 +235,7 @@ class KrlReader {
   FdatRecord fdat_aggregate(const Statement& s, std::string_view text) const;
   long long integer(const Statement& s, std::string_view expression) const;
   double number(const Statement& s, std::string_view text, std::string_view what) const;
+  bool condition(const Statement& s, std::string_view word, std::string_view text) const;
   Target target(const Statement& s, std::string_view text, bool ptp) const;
   const Target* lookup(const Statement& s, std::string_view name, bool ptp) const;
 
@@ -254,6 +268,7 @@ class KrlReader {
   std::map<std::string, Target, std::less<>> positions_;
   std::map<std::string, PositionArray, std::less<>> arrays_;
   std::map<std::string, long long, std::less<>> integers_;
+  std::map<std::string, double, std::less<>> reals_;    // REAL variables with a literal value
   std::set<std::string, std::less<>> other_variables_;  // REAL, BOOL, ...: declared, not modelled
   std::map<std::string, FdatRecord, std::less<>> fdats_;
   std::optional<FdatRecord> fdat_act_;
@@ -271,6 +286,11 @@ class KrlReader {
   int tool_ = 0;
   std::vector<Loop> loops_;
   std::map<std::size_t, std::size_t> loop_end_;  // FOR index → ENDFOR index
+  // WHILE → ENDWHILE, IF → ENDIF, ELSE → ENDIF; ENDWHILE → WHILE, UNTIL →
+  // REPEAT; IF → ELSE (statement indices, matched before the program runs).
+  std::map<std::size_t, std::size_t> block_end_;
+  std::map<std::size_t, std::size_t> block_start_;
+  std::map<std::size_t, std::size_t> else_of_;
   std::size_t executed_ = 0;
   bool ended_ = false;
 };
@@ -342,6 +362,67 @@ long long KrlReader::integer(const Statement& s, std::string_view expression) co
   if (expect_term)
     fail(s.line, "'" + pt::excerpt(expression) + "' is not a complete integer expression");
   return total;
+}
+
+// The condition of WHILE, UNTIL or IF: one comparison of two integer
+// expressions, optionally in parentheses ("I <= N", "(I+1 <> LAST)").
+// Anything else (inputs, BOOL, REAL, AND / OR) decides at run time on the
+// robot, so the path cannot be known here: refused with the statement.
+bool KrlReader::condition(const Statement& s, std::string_view word, std::string_view text) const {
+  text = pt::trim(text);
+  const std::string written = std::string(word) + " " + pt::excerpt(text);
+  auto refuse = [&](const std::string& why) {
+    fail(s.line, written + ": control flow is not modelled for this condition (" + why +
+                     "); robomill runs FOR loops and WHILE, REPEAT ... UNTIL and IF on "
+                     "comparisons of INT values (I <= N); unroll the program in the robot "
+                     "post-processor");
+  };
+  while (text.size() >= 2 && text.front() == '(' && text.back() == ')') {
+    int depth = 0;  // strip only parentheses that enclose the whole condition
+    bool encloses = true;
+    for (std::size_t n = 0; n + 1 < text.size(); ++n) {
+      depth += text[n] == '(' ? 1 : text[n] == ')' ? -1 : 0;
+      if (depth == 0) {
+        encloses = false;
+        break;
+      }
+    }
+    if (!encloses)
+      break;
+    text = pt::trim(text.substr(1, text.size() - 2));
+  }
+  std::size_t at = std::string_view::npos;
+  std::string_view op;
+  for (std::string_view candidate : kComparisons) {
+    const std::size_t found = text.find(candidate);
+    if (found != std::string_view::npos && found < at) {
+      at = found;
+      op = candidate;
+    }
+  }
+  if (at == std::string_view::npos)
+    refuse("no comparison of INT values");
+  const std::string_view left = text.substr(0, at);
+  const std::string_view right = text.substr(at + op.size());
+  for (std::string_view joined : {" AND ", " OR ", " EXOR ", "NOT "})
+    if (text.find(joined) != std::string_view::npos)
+      refuse("AND, OR and NOT are not evaluated");
+  long long a = 0, b = 0;
+  try {
+    a = integer(s, left);
+    b = integer(s, right);
+  } catch (const InputError&) {
+    refuse("its operands are not INT values known before the program runs");
+  }
+  if (op == "<=")
+    return a <= b;
+  if (op == ">=")
+    return a >= b;
+  if (op == "==")
+    return a == b;
+  if (op == "<>")
+    return a != b;
+  return op == "<" ? a < b : a > b;
 }
 
 // {X 10, Y 20, Z 30, A 0, B 90, C 0, S 2, T 35, E1 0} or {E6AXIS: A1 0, ..., A6 0}.
@@ -474,6 +555,8 @@ void KrlReader::declare(const Statement& s, std::string_view type, std::string_v
       integers_[key] = value.empty() ? 0 : integer(s, value);
     } else if (type == "FDAT") {
       fdats_[key] = fdat_aggregate(s, value);
+    } else if (const std::optional<double> real = pt::parse_number(value); type == "REAL" && real) {
+      reals_[key] = *real;  // a speed the program may name: $VEL.CP = FEED
     } else {
       other_variables_.insert(key);  // REAL, BOOL, PDAT, LDAT and the rest: no motion
     }
@@ -495,6 +578,12 @@ bool KrlReader::assignment(const Statement& s) {
     index = integer(s, rest.substr(1, close - 1));
     rest = pt::trim(rest.substr(close + 1));
   }
+  if (!rest.empty() && rest.front() == '.' &&
+      (arrays_.count(name) != 0 || positions_.count(name) != 0))
+    fail(s.line, std::string(name) + (index ? "[" + std::to_string(*index) + "]" : "") +
+                     pt::excerpt(rest.substr(0, rest.find('='))) +
+                     " = ...: assigning one component of a frame is not modelled (it is REAL "
+                     "arithmetic); write the whole frames in the .dat");
   if (rest.empty() || rest.front() != '=' || (rest.size() > 1 && rest[1] == '='))
     return false;
   const std::string_view value = pt::trim(rest.substr(1));
@@ -517,7 +606,7 @@ bool KrlReader::assignment(const Statement& s) {
     if (*index < 1 || *index > array->second.size)
       fail(s.line, std::string(name) + "[" + std::to_string(*index) +
                        "]: the index is outside 1 ... " + std::to_string(array->second.size));
-    array->second.elements[*index] = aggregate(s, value);
+    array->second.elements[*index] = target(s, value, false);
     return true;
   }
   if (index)
@@ -525,8 +614,16 @@ bool KrlReader::assignment(const Statement& s) {
                      " is not a declared position array (DECL FRAME " + std::string(name) +
                      "[n] in the .dat)");
   if (const auto position = positions_.find(name); position != positions_.end()) {
-    position->second = aggregate(s, value);
+    position->second = target(s, value, false);  // {X ...} or another position, P[I]
     return true;
+  }
+  if (const auto real = reals_.find(name); real != reals_.end()) {
+    if (const std::optional<double> literal = pt::parse_number(value)) {
+      real->second = *literal;
+      return true;
+    }
+    reals_.erase(real);  // an expression: its value is not known from here on
+    other_variables_.insert(std::string(name));
   }
   if (const auto variable = integers_.find(name); variable != integers_.end()) {
     variable->second = integer(s, value);
@@ -907,7 +1004,8 @@ void KrlReader::system_variable(const Statement& s) {
         integer(s, text.substr(prefix.size() + 1, text.size() - prefix.size() - 2)));
   };
   if (variable == "$VEL.CP") {
-    const double v = number(s, value, "$VEL.CP");
+    const auto named = reals_.find(value);
+    const double v = named != reals_.end() ? named->second : number(s, value, "$VEL.CP");
     if (!(v > 0.0) || v > 100.0)
       fail(s.line,
            "$VEL.CP: the path speed must be between 0 and 100 m/s, got " + pt::excerpt(value));
@@ -1060,8 +1158,10 @@ void KrlReader::execute(const std::vector<Statement>& statements, std::size_t& p
   const std::string_view word = leading_word(text);
   const std::string_view rest = pt::trim(text.substr(word.size()));
   if (++executed_ > options_.max_executed_statements)
-    fail(s.line, "the program runs more than " + std::to_string(options_.max_executed_statements) +
-                     " statements once its loops are unrolled; check the FOR bounds");
+    fail(s.line,
+         "the program runs more than " + std::to_string(options_.max_executed_statements) +
+             " statements once its loops are unrolled; check the loop bounds and that each WHILE "
+             "or REPEAT loop changes its counter");
   ++pc;
   if (word == "END") {
     ended_ = true;
@@ -1121,31 +1221,50 @@ void KrlReader::execute(const std::vector<Statement>& statements, std::size_t& p
     note_once("INTERRUPT", s.line, "INTERRUPT: interrupt handlers are not run");
     return;
   }
-  static const std::set<std::string, std::less<>> kControlFlow = {"WHILE",
-                                                                  "ENDWHILE",
-                                                                  "IF",
-                                                                  "ELSE",
-                                                                  "ENDIF",
-                                                                  "LOOP",
-                                                                  "ENDLOOP",
-                                                                  "REPEAT",
-                                                                  "UNTIL",
-                                                                  "SWITCH",
-                                                                  "CASE",
-                                                                  "DEFAULT",
-                                                                  "ENDSWITCH",
-                                                                  "GOTO",
-                                                                  "EXIT",
-                                                                  "RETURN",
-                                                                  "CONTINUE",
-                                                                  "RESUME",
-                                                                  "BRAKE",
-                                                                  "SPLINE",
-                                                                  "ENDSPLINE",
-                                                                  "PTP_SPLINE",
-                                                                  "ON_ERROR_PROCEED",
-                                                                  "ANIN",
-                                                                  "ANOUT"};
+  if (word == "WHILE") {
+    if (!condition(s, word, rest))
+      pc = block_end_.at(pc - 1) + 1;  // past ENDWHILE
+    return;
+  }
+  if (word == "ENDWHILE") {
+    pc = block_start_.at(pc - 1);  // the WHILE again, which tests its condition
+    return;
+  }
+  if (word == "REPEAT" || word == "ENDIF")
+    return;
+  if (word == "UNTIL") {
+    if (!condition(s, word, rest))
+      pc = block_start_.at(pc - 1) + 1;  // the body again
+    return;
+  }
+  if (word == "IF") {
+    // IF condition THEN
+    std::string_view test = rest;
+    if (test.size() >= 5 && test.substr(test.size() - 5) == " THEN")
+      test = test.substr(0, test.size() - 5);
+    else if (test == "THEN" || test.empty())
+      fail(s.line, "IF: no condition; expected IF condition THEN");
+    else
+      fail(s.line, "IF " + pt::excerpt(rest) + ": expected IF condition THEN");
+    if (!condition(s, word, test)) {
+      const auto else_at = else_of_.find(pc - 1);
+      pc = (else_at != else_of_.end() ? else_at->second : block_end_.at(pc - 1)) + 1;
+    }
+    return;
+  }
+  if (word == "ELSE") {
+    pc = block_end_.at(pc - 1) + 1;  // the IF branch ran: skip the ELSE branch
+    return;
+  }
+  if (word == "CONTINUE") {
+    // Stops the advance run from halting at the next statement: timing on the
+    // robot, no effect on the path.
+    return;
+  }
+  static const std::set<std::string, std::less<>> kControlFlow = {
+      "LOOP",      "ENDLOOP",    "SWITCH",           "CASE",   "DEFAULT", "ENDSWITCH",
+      "GOTO",      "EXIT",       "RETURN",           "RESUME", "BRAKE",   "SPLINE",
+      "ENDSPLINE", "PTP_SPLINE", "ON_ERROR_PROCEED", "ANIN",   "ANOUT"};
   if (kControlFlow.count(word) != 0)
     fail(s.line, std::string(word) +
                      ": control flow is not modelled; unroll the program in the "
@@ -1199,7 +1318,11 @@ void KrlReader::run(const std::vector<Statement>& statements) {
     fail(statements[0].line, "'" + pt::excerpt(leading_word(first)) +
                                  "' before DEF; a KRL program starts with DEF name( )");
   pc = 1;
-  // Match FOR with ENDFOR up front (the main program ends at the first END).
+  // Match FOR, WHILE, REPEAT and IF with their ends up front (the main program
+  // ends at the first END), so a jump never has to search and a block that is
+  // not closed is an error before anything runs.
+  static const std::map<std::string_view, std::string_view> kCloser = {
+      {"FOR", "ENDFOR"}, {"WHILE", "ENDWHILE"}, {"REPEAT", "UNTIL"}, {"IF", "ENDIF"}};
   std::vector<std::size_t> open;
   std::size_t main_end = statements.size();
   for (std::size_t n = pc; n < statements.size(); ++n) {
@@ -1208,17 +1331,44 @@ void KrlReader::run(const std::vector<Statement>& statements) {
       main_end = n;
       break;
     }
-    if (word == "FOR")
+    if (kCloser.count(word) != 0) {
       open.push_back(n);
-    if (word == "ENDFOR") {
-      if (open.empty())
-        fail(statements[n].line, "ENDFOR without FOR");
-      loop_end_[open.back()] = n;
-      open.pop_back();
+      continue;
     }
+    const bool is_else = word == "ELSE";
+    const auto opener = std::find_if(kCloser.begin(), kCloser.end(), [&](const auto& pair) {
+      return pair.second == word || (is_else && pair.first == "IF");
+    });
+    if (opener == kCloser.end())
+      continue;
+    const std::string expected(opener->first);
+    if (open.empty() || leading_word(statements[open.back()].text) != expected)
+      fail(statements[n].line,
+           std::string(word) + " without " + expected +
+               (open.empty() ? std::string()
+                             : " (the " + std::string(leading_word(statements[open.back()].text)) +
+                                   " of line " + std::to_string(statements[open.back()].line) +
+                                   " is still open)"));
+    const std::size_t start = open.back();
+    if (is_else) {
+      if (else_of_.count(start) != 0)
+        fail(statements[n].line,
+             "a second ELSE for the IF of line " + std::to_string(statements[start].line));
+      else_of_[start] = n;
+      continue;
+    }
+    open.pop_back();
+    if (word == "ENDFOR")
+      loop_end_[start] = n;
+    block_end_[start] = n;
+    block_start_[n] = start;
+    if (const auto else_at = else_of_.find(start); else_at != else_of_.end())
+      block_end_[else_at->second] = n;
   }
   if (!open.empty())
-    fail(statements[open.back()].line, "FOR without ENDFOR");
+    fail(statements[open.back()].line,
+         std::string(leading_word(statements[open.back()].text)) + " without " +
+             std::string(kCloser.at(leading_word(statements[open.back()].text))));
   if (main_end == statements.size())
     fail(statements.back().line, "no END closes DEF; a KRL program ends with END");
   while (pc < statements.size() && !ended_)

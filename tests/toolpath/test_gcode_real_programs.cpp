@@ -17,12 +17,18 @@
 // A summary (files, accepted, compared, matched, refusals by class) is
 // printed and recorded as test properties; docs/toolpath.md quotes it.
 // Without the package installed the test is skipped with a message.
+//
+// GcodeOthers: the programs in tests/toolpath/gcode/others/ (FreeCAD's
+// linuxcnc, centroid and grbl posts, LinuxCNC's examples; sources and
+// licences in the README there) are read with numbers from each program
+// checked by hand, and compared with rs274 where it is installed.
 
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cctype>
 #include <cmath>
@@ -32,6 +38,7 @@
 #include <future>
 #include <iostream>
 #include <map>
+#include <numbers>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -39,6 +46,7 @@
 #include <system_error>
 #include <thread>
 #include <typeinfo>
+#include <utility>
 #include <vector>
 
 #include "robomill/core/error.hpp"
@@ -343,6 +351,264 @@ TEST(GcodeRealPrograms, LinuxCncExamplesAreReadOrRefusedAndMatchRs274) {
   if (rs274) {
     EXPECT_GE(matched, 8u);
   }
+}
+
+// ---------------------------------------------------------------------------
+// Programs written by others, kept in the repository (gcode/others/README.md).
+
+fs::path others_dir() {
+  return fs::path(ROBOMILL_SOURCE_DIR) / "tests/toolpath/gcode/others";
+}
+
+Program read_other(const std::string& name) {
+  robomill::io::GcodeOptions options;
+  options.source_name = name;
+  return robomill::io::read_gcode(read_text(others_dir() / name), options);
+}
+
+InputError refusal_of(const std::string& name) {
+  try {
+    read_other(name);
+  } catch (const InputError& error) {
+    return error;
+  }
+  ADD_FAILURE() << name << " was read, not refused";
+  return InputError("", 0, "");
+}
+
+/// rs274 on `text` against read_gcode's moves: empty when they agree (or
+/// rs274 is not installed, with a message), else the first difference.
+std::string rs274_difference(const std::string& name, const std::string& text) {
+  const std::optional<std::string> rs274 = find_rs274();
+  if (!rs274) {
+    std::cout << "rs274 is not installed: " << name << " is not compared with it\n";
+    return {};
+  }
+  const OracleRun oracle = run_rs274(*rs274, text, fs::path(name).stem().string());
+  if (oracle.status != 0)
+    return "rs274 refused it:\n" + oracle.output;
+  return first_difference(robomill::io::read_gcode(text, oracle_options(name)), oracle.moves);
+}
+
+struct Box {
+  Eigen::Vector3d low = Eigen::Vector3d::Constant(1e9);
+  Eigen::Vector3d high = Eigen::Vector3d::Constant(-1e9);
+};
+
+/// The box the tip sweeps (arcs sampled finely), from the first move's end
+/// on: the first move starts at the program origin, where the post never put
+/// the tool.
+Box swept_box(const Program& program, bool feed_only) {
+  Box box;
+  for (std::size_t n = 0; n < program.moves.size(); ++n) {
+    const Move& move = program.moves[n];
+    if (feed_only && move.kind != MotionKind::linear && move.kind != MotionKind::arc)
+      continue;
+    for (int k = n == 0 ? 256 : 0; k <= 256; ++k) {
+      const Eigen::Vector3d p = robomill::toolpath::position_at(move, k / 256.0);
+      box.low = box.low.cwiseMin(p);
+      box.high = box.high.cwiseMax(p);
+    }
+  }
+  return box;
+}
+
+double feed_length_m(const Program& program, double z_m) {
+  double length = 0.0;
+  for (const Move& move : program.moves)
+    if ((move.kind == MotionKind::linear || move.kind == MotionKind::arc) &&
+        std::abs(move.start_m.z() - z_m) < 1e-9 && std::abs(move.end_m.z() - z_m) < 1e-9)
+      length += robomill::toolpath::path_length_m(move);
+  return length;
+}
+
+std::size_t count_kind(const Program& program, MotionKind kind) {
+  return static_cast<std::size_t>(std::count_if(program.moves.begin(), program.moves.end(),
+                                                [&](const Move& m) { return m.kind == kind; }));
+}
+
+constexpr double kMm = 1e-3;
+constexpr double kPerMinute = 1.0 / 60.0;
+
+// FreeCAD linuxcnc_post, mm: a 5 mm end mill round a 3 x 3 mm square.
+TEST(GcodeOthers, FreeCadLinuxCncPostMetric) {
+  const Program p = read_other("freecad_linuxcnc_metric.ngc");
+  // Rapids: Z9, Y-2.5, Z7, Z9 at the end (the repeated G0 Z9 and G0 X0 Y0
+  // move nothing); the plunge; four G1 sides and four G2 corners.
+  ASSERT_EQ(p.moves.size(), 13u);
+  EXPECT_EQ(count_kind(p, MotionKind::rapid), 4u);
+  EXPECT_EQ(count_kind(p, MotionKind::arc), 4u);
+  EXPECT_EQ(p.moves[3].feed_m_s, 340.2 * kMm * kPerMinute);  // the plunge
+  for (std::size_t n = 4; n < 12; ++n) {
+    EXPECT_EQ(p.moves[n].feed_m_s, 140.4 * kMm * kPerMinute) << n;
+    EXPECT_EQ(p.moves[n].tool, 1);
+    EXPECT_NEAR(p.moves[n].spindle_rad_s, 123.0 * 2.0 * std::numbers::pi / 60.0, 1e-12);
+  }
+  // The square's sides (3 mm) and quarter circles of the tool radius 2.5 mm,
+  // clockwise (climb milling outside): 12 + 5π mm at Z -1.
+  EXPECT_NEAR(feed_length_m(p, -1.0 * kMm), (12.0 + 5.0 * std::numbers::pi) * kMm, 1e-12);
+  for (std::size_t n = 4; n < 12; n += 2)
+    EXPECT_NEAR(p.moves[n].sweep_rad * p.moves[n].normal.z(), -std::numbers::pi / 2, 1e-12);
+  const Box box = swept_box(p, true);
+  EXPECT_LE((box.low - Eigen::Vector3d(-2.5, -2.5, -1.0) * kMm).norm(), 1e-12);
+  EXPECT_LE((box.high - Eigen::Vector3d(5.5, 5.5, 7.0) * kMm).norm(), 1e-12);
+  ASSERT_EQ(p.tool_calls.size(), 1u);
+  EXPECT_EQ(p.tool_calls[0].tool, 1);
+  EXPECT_EQ(p.tool_calls[0].line, 13);
+  const std::string difference = rs274_difference(
+      "freecad_linuxcnc_metric.ngc", read_text(others_dir() / "freecad_linuxcnc_metric.ngc"));
+  EXPECT_TRUE(difference.empty()) << difference;
+}
+
+// The same job posted in inches (4 decimals): the same path to the inch
+// post's rounding (0.00005 in), feeds in in/min.
+TEST(GcodeOthers, FreeCadLinuxCncPostInchIsTheMetricJob) {
+  const Program inch = read_other("freecad_linuxcnc_inch.ngc");
+  const Program metric = read_other("freecad_linuxcnc_metric.ngc");
+  ASSERT_EQ(inch.moves.size(), metric.moves.size());
+  const double rounding_m = 0.00005 * kMetresPerInch;
+  for (std::size_t n = 0; n < inch.moves.size(); ++n) {
+    const Move& a = inch.moves[n];
+    const Move& b = metric.moves[n];
+    EXPECT_EQ(a.kind, b.kind) << n;
+    EXPECT_LE((a.end_m - b.end_m).lpNorm<Eigen::Infinity>(), rounding_m) << n;
+    EXPECT_LE((a.centre_m - b.centre_m).lpNorm<Eigen::Infinity>(), rounding_m) << n;
+    // 140.4 mm/min is 5.5276 in/min to the post's 4 decimals.
+    EXPECT_NEAR(a.feed_m_s, b.feed_m_s, 0.00005 * kMetresPerInch * kPerMinute) << n;
+  }
+  EXPECT_EQ(inch.moves[5].feed_m_s, 5.5276 * kMetresPerInch * kPerMinute);
+  const std::string difference = rs274_difference(
+      "freecad_linuxcnc_inch.ngc", read_text(others_dir() / "freecad_linuxcnc_inch.ngc"));
+  EXPECT_TRUE(difference.empty()) << difference;
+}
+
+// FreeCAD grbl_post (our geometry in its forms, README): the tool change is
+// a comment, so no tool is named; every G17 arc carries K0.000.
+TEST(GcodeOthers, FreeCadGrblPostProfile) {
+  const Program p = read_other("freecad_grbl_profile.nc");
+  // Rapids Z5, X-3 Y0, Z3; two plunges; 2 x 8 contour moves; the rapid up.
+  ASSERT_EQ(p.moves.size(), 22u);
+  EXPECT_EQ(count_kind(p, MotionKind::rapid), 4u);
+  EXPECT_EQ(count_kind(p, MotionKind::arc), 8u);
+  EXPECT_TRUE(p.tool_calls.empty());
+  for (const Move& move : p.moves) {
+    EXPECT_EQ(move.tool, 0);
+    EXPECT_NEAR(move.spindle_rad_s, 12000.0 * 2.0 * std::numbers::pi / 60.0, 1e-9);
+  }
+  // 2 x (50 + 30) mm of sides and four quarter circles of 3 mm a pass.
+  for (const double z : {-1.5, -3.0})
+    EXPECT_NEAR(feed_length_m(p, z * kMm), (160.0 + 6.0 * std::numbers::pi) * kMm, 1e-12) << z;
+  EXPECT_EQ(p.moves[4].feed_m_s, 600.0 * kMm * kPerMinute);
+  const Box box = swept_box(p, true);
+  EXPECT_LE((box.low - Eigen::Vector3d(-3.0, -3.0, -3.0) * kMm).norm(), 1e-12);
+  EXPECT_LE((box.high - Eigen::Vector3d(53.0, 33.0, 3.0) * kMm).norm(), 1e-12);
+  // rs274 refuses a K word in G17; without the K0.000 words (which move
+  // nothing) it must agree move by move.
+  std::string text = read_text(others_dir() / "freecad_grbl_profile.nc");
+  for (std::size_t at = text.find(" K0.000"); at != std::string::npos; at = text.find(" K0.000"))
+    text.erase(at, 7);
+  const std::string difference = rs274_difference("freecad_grbl_profile.nc", text);
+  EXPECT_TRUE(difference.empty()) << difference;
+}
+
+// LinuxCNC's "Circle Diamond Square" (NIST, 1994), inch. Its header: 4 x 4 x
+// 2 in stock, top at Z 2, "cutter does not descend more than 0.94 in below
+// top". (The header's "Y -0.250 to 3.915, Z 1.406 to 3.0" is the pocket part
+// only: the ramps at the end go to Y 4.0 and, line 261, down to Z 1.06379.)
+TEST(GcodeOthers, LinuxCncCircleDiamondSquare) {
+  const Program p = read_other("linuxcnc_cds.ngc");
+  ASSERT_FALSE(p.moves.empty());
+  const Box box = swept_box(p, false);
+  const double tolerance = 1e-9;
+  EXPECT_NEAR(box.low.x(), 0.0, tolerance);
+  EXPECT_NEAR(box.high.x(), 4.0 * kMetresPerInch, tolerance);
+  EXPECT_NEAR(box.low.y(), -0.250 * kMetresPerInch, tolerance);
+  EXPECT_NEAR(box.high.y(), 4.0 * kMetresPerInch, tolerance);
+  EXPECT_NEAR(box.low.z(), 1.06379 * kMetresPerInch, tolerance);
+  EXPECT_GE(box.low.z(), (2.0 - 0.94) * kMetresPerInch);
+  EXPECT_NEAR(box.high.z(), 3.0 * kMetresPerInch, tolerance);
+  const auto deepest =
+      std::min_element(p.moves.begin(), p.moves.end(),
+                       [](const Move& a, const Move& b) { return a.end_m.z() < b.end_m.z(); });
+  EXPECT_EQ(deepest->line, 261);
+  for (const Move& move : p.moves)
+    if (move.kind != MotionKind::rapid) {
+      EXPECT_NEAR(move.feed_m_s, 16.0 * kMetresPerInch * kPerMinute, 1e-15) << move.line;
+      EXPECT_NEAR(move.spindle_rad_s, 3500.0 * 2.0 * std::numbers::pi / 60.0, 1e-9);
+    }
+  const std::string difference =
+      rs274_difference("linuxcnc_cds.ngc", read_text(others_dir() / "linuxcnc_cds.ngc"));
+  EXPECT_TRUE(difference.empty()) << difference;
+}
+
+// A LinuxCNC user's test: two tools, each a full circle G2 I-45 at 1 mm
+// depth round (-70, 100); G43 without H takes the tool in the spindle.
+TEST(GcodeOthers, LinuxCncTwoToolsFullCircles) {
+  const Program p = read_other("linuxcnc_hk_ba20_testmill.ngc");
+  // Per tool: (rapids Z10, Y100, X-25 for the first; Z10 for the second, the
+  // tool being there already) the plunge, the circle, the rapid up; X-300 last.
+  ASSERT_EQ(p.moves.size(), 11u);
+  ASSERT_EQ(count_kind(p, MotionKind::arc), 2u);
+  const std::array<std::pair<int, double>, 2> tools{{{13, 3000.0}, {18, 5000.0}}};
+  std::size_t circle = 0;
+  for (const Move& move : p.moves) {
+    if (move.kind != MotionKind::arc)
+      continue;
+    EXPECT_EQ(move.tool, tools.at(circle).first);
+    EXPECT_NEAR(move.spindle_rad_s, tools.at(circle).second * 2.0 * std::numbers::pi / 60.0, 1e-9);
+    EXPECT_EQ(move.feed_m_s, 500.0 * kMm * kPerMinute);
+    EXPECT_LE((move.centre_m - Eigen::Vector3d(-70.0, 100.0, -1.0) * kMm).norm(), 1e-12);
+    EXPECT_NEAR(move.sweep_rad * move.normal.z(), -2.0 * std::numbers::pi, 1e-12);
+    EXPECT_NEAR(robomill::toolpath::path_length_m(move), 2.0 * std::numbers::pi * 45.0 * kMm,
+                1e-12);
+    ++circle;
+  }
+  const Box box = swept_box(p, true);
+  EXPECT_NEAR(box.low.x(), -115.0 * kMm, 1e-9);
+  EXPECT_NEAR(box.high.y(), 145.0 * kMm, 1e-9);
+  ASSERT_EQ(p.tool_calls.size(), 2u);
+  EXPECT_EQ(p.tool_calls[1].tool, 18);
+  // M6 stops the spindle: the rapid down after the second tool change (line
+  // 32) runs before S5000 M3 (lines 38-39), as rs274 has it.
+  EXPECT_EQ(p.moves[6].line, 32);
+  EXPECT_EQ(p.moves[6].spindle_rad_s, 0.0);
+  const std::string difference = rs274_difference(
+      "linuxcnc_hk_ba20_testmill.ngc", read_text(others_dir() / "linuxcnc_hk_ba20_testmill.ngc"));
+  EXPECT_TRUE(difference.empty()) << difference;
+}
+
+// The control stops the spindle for a tool change; M3 in the M6 block (or
+// after it) turns it again.
+TEST(GcodeOthers, AToolChangeStopsTheSpindle) {
+  robomill::io::GcodeOptions options;
+  const Program p = robomill::io::read_gcode(
+      "G21 G90\nT1 M6\nS1000 M3\nG0 Z5\nT2 M6\nG0 X1\nM3\nG0 X2\nT3 M6 M4\nG0 X3\n", options);
+  ASSERT_EQ(p.moves.size(), 4u);
+  const double w = 1000.0 * 2.0 * std::numbers::pi / 60.0;
+  EXPECT_NEAR(p.moves[0].spindle_rad_s, w, 1e-12);
+  EXPECT_EQ(p.moves[1].spindle_rad_s, 0.0);  // after T2 M6, before M3
+  EXPECT_NEAR(p.moves[2].spindle_rad_s, w, 1e-12);
+  EXPECT_NEAR(p.moves[3].spindle_rad_s, -w, 1e-12);  // M4 in the M6 block
+}
+
+// Refused, rightly, by line and word.
+TEST(GcodeOthers, CutterCompensationAndMissingFeedAreRefused) {
+  // The two circles again, with G41: the path is not the tool centre.
+  InputError e = refusal_of("linuxcnc_gmoccapy_cutter_comp.ngc");
+  EXPECT_EQ(e.line(), 37);
+  EXPECT_NE(std::string(e.what()).find("G41: cutter compensation is not modelled"),
+            std::string::npos)
+      << e.what();
+  // FreeCAD's centroid_post: the cut reads, but the postamble's M25
+  // (Centroid's own code: Z up to the tool-change height; M99 follows) is no
+  // ISO or LinuxCNC word, and an M code read wrongly could move the tool.
+  e = refusal_of("freecad_centroid_metric.ngc");
+  EXPECT_EQ(e.line(), 36);
+  EXPECT_NE(std::string(e.what()).find("M25: unknown M code"), std::string::npos) << e.what();
+  // FreeCAD's oldest linuxcnc_post test output: G1 with no F anywhere.
+  e = refusal_of("freecad_linuxcnc_no_feed.ngc");
+  EXPECT_EQ(e.line(), 17);
+  EXPECT_NE(std::string(e.what()).find("without a feed rate"), std::string::npos) << e.what();
 }
 
 }  // namespace

@@ -320,6 +320,139 @@ TEST(KrlReader, KukaInlineFormsRunTheStatementsInsideTheFolds) {
   EXPECT_EQ(p.tool_calls[0].tool, 2);
 }
 
+// WHILE, REPEAT ... UNTIL and IF on INT comparisons run as the robot would.
+TEST(KrlReader, WhileRepeatAndIfOnIntComparisons) {
+  const std::string dat =
+      "DEFDAT test\nDECL INT N=3\nDECL FRAME P[3]\nP[1]={X 1,Y 0,Z 0,A 0,B 90,C 0}\n"
+      "P[2]={X 2,Y 0,Z 0,A 0,B 90,C 0}\nP[3]={X 3,Y 0,Z 0,A 0,B 90,C 0}\nENDDAT\n";
+  // WHILE over the array, then a WHILE whose condition is false at once.
+  Program p =
+      krl("DECL INT I\nLIN {X 0,Y 0,Z 0,A 0,B 90,C 0}\nI = 1\nWHILE I <= N\nLIN P[I]\nI = I + 1\n"
+          "ENDWHILE\nWHILE (I < 2)\nLIN P[9]\nENDWHILE\n",
+          dat);
+  ASSERT_EQ(p.moves.size(), 3u);
+  expect_near(p.moves[2].end_m, Vector3d(0.003, 0, 0));
+  EXPECT_EQ(p.moves[2].line, 6);
+  // REPEAT runs its body once before UNTIL is tested: K = 3, 2, 1.
+  p =
+      krl("DECL INT K\nLIN {X 0,Y 0,Z 0,A 0,B 90,C 0}\nK = N\nREPEAT\nLIN P[K]\nK = K - 1\n"
+          "UNTIL K == 0\nK = 7\nREPEAT\nLIN P[2]\nUNTIL K>0\n",
+          dat);
+  ASSERT_EQ(p.moves.size(), 4u);  // UNTIL K>0 holds at once: P[2] once
+  expect_near(p.moves[0].end_m, Vector3d(0.003, 0, 0));
+  expect_near(p.moves[2].end_m, Vector3d(0.001, 0, 0));
+  expect_near(p.moves[3].end_m, Vector3d(0.002, 0, 0));
+  // IF ... ELSE ... ENDIF inside a FOR: odd and even I take different branches;
+  // <> and >= compare too.
+  p =
+      krl("DECL INT I\nLIN {X 0,Y 0,Z 0,A 0,B 90,C 0}\nFOR I = 1 TO 3\n"
+          "IF I == 2 THEN\nLIN {Z 5}\nELSE\nLIN P[I]\nENDIF\nIF I <> 2 THEN\nIF I >= 3 THEN\n"
+          "LIN {Y 1}\nENDIF\nENDIF\nENDFOR\n",
+          dat);
+  ASSERT_EQ(p.moves.size(), 4u);
+  expect_near(p.moves[0].end_m, Vector3d(0.001, 0, 0));
+  expect_near(p.moves[1].end_m, Vector3d(0.001, 0, 0.005));
+  expect_near(p.moves[2].end_m, Vector3d(0.003, 0, 0));
+  expect_near(p.moves[3].end_m, Vector3d(0.003, 0.001, 0));
+  // CONTINUE only concerns the advance run.
+  EXPECT_EQ(krl("LIN {X 0,Y 0,Z 0,A 0,B 90,C 0}\nCONTINUE\nLIN {X 1}\n").moves.size(), 1u);
+}
+
+TEST(KrlReader, ConditionsThatDependOnTheRobotAreRefused) {
+  auto message = [](const InputError& e) { return std::string(e.what()); };
+  InputError e = error_of("LIN {X 0,Y 0,Z 0,A 0,B 90,C 0}\nWHILE $IN[3] == TRUE\nENDWHILE\n");
+  EXPECT_EQ(e.line(), 3);
+  EXPECT_NE(message(e).find("WHILE $IN[3] == TRUE"), std::string::npos) << message(e);
+  EXPECT_NE(message(e).find("control flow is not modelled"), std::string::npos);
+  e = error_of("DECL BOOL DONE\nIF DONE THEN\nENDIF\n");
+  EXPECT_EQ(e.line(), 3);
+  EXPECT_NE(message(e).find("IF DONE"), std::string::npos) << message(e);
+  e = error_of("DECL INT I,J\nWHILE I < 3 AND J < 3\nENDWHILE\n");
+  EXPECT_EQ(e.line(), 3);
+  EXPECT_NE(message(e).find("AND"), std::string::npos) << message(e);
+  EXPECT_EQ(error_of("IF 1 < 2\nENDIF\n").line(), 2);  // no THEN
+  // Blocks that do not close, or close the wrong block, fail before anything runs.
+  e = error_of("LIN {X 0,Y 0,Z 0,A 0,B 90,C 0}\nWHILE 1 < 2\nLIN {X 1}\n");
+  EXPECT_EQ(e.line(), 3);
+  EXPECT_NE(message(e).find("WHILE without ENDWHILE"), std::string::npos) << message(e);
+  e = error_of("DECL INT I\nFOR I = 1 TO 2\nENDWHILE\nENDFOR\n");
+  EXPECT_EQ(e.line(), 4);
+  EXPECT_NE(message(e).find("the FOR of line 3"), std::string::npos) << message(e);
+  EXPECT_EQ(error_of("IF 1 < 2 THEN\nELSE\nELSE\nENDIF\n").line(), 4);
+  EXPECT_EQ(error_of("UNTIL 1 > 0\n").line(), 2);
+  // A loop that never ends is stopped by the bound on unrolled statements.
+  KrlOptions options = options_with();
+  options.max_executed_statements = 1000;
+  try {
+    read_krl(
+        "DEF t( )\nDECL INT I\nLIN {X 0,Y 0,Z 0,A 0,B 90,C 0}\nWHILE I < 1\nLIN {X 1}\n"
+        "ENDWHILE\nEND\n",
+        options);
+    ADD_FAILURE() << "an endless WHILE was read";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find("more than 1000"), std::string::npos);
+  }
+}
+
+TEST(KrlReader, RealSpeedsPositionCopiesAndFrameComponents) {
+  const std::string dat =
+      "DEFDAT test\nDECL REAL FEED=0.05\nDECL FRAME P[2]\nP[1]={X 1,Y 0,Z 0,A 0,B 90,C 0}\n"
+      "P[2]={X 2,Y 0,Z 0,A 0,B 90,C 0}\nDECL FRAME XT\nENDDAT\n";
+  Program p =
+      krl("$VEL.CP = FEED\nLIN P[1]\nXT = P[2]\nLIN XT\nFEED = 0.1\n$VEL.CP=FEED\n"
+          "LIN P[1]\n",
+          dat);
+  ASSERT_EQ(p.moves.size(), 2u);
+  EXPECT_EQ(p.moves[0].feed_m_s, 0.05);
+  expect_near(p.moves[0].end_m, Vector3d(0.002, 0, 0));
+  EXPECT_EQ(p.moves[1].feed_m_s, 0.1);
+  // A REAL given an expression has no known value any more.
+  EXPECT_EQ(error_of("FEED = FEED * 2\n$VEL.CP = FEED\n", dat).line(), 3);
+  const InputError e = error_of("P[1].Z = 5\n", dat);
+  EXPECT_EQ(e.line(), 2);
+  EXPECT_NE(std::string(e.what()).find("one component of a frame"), std::string::npos) << e.what();
+}
+
+// A program that walks FRAME tables in a FOR, a WHILE and a REPEAT loop
+// (tests/toolpath/krl/README.md): numbers from its .dat, by hand.
+TEST(KrlReader, FrameArrayLoopProgram) {
+  const std::string dat = corpus("krl/frame_array_loop.dat");
+  Program p = read_krl(corpus("krl/frame_array_loop.src"), options_with(dat));
+  // WAIT SEC; 12 LIN P[I] and LIN P[1]; 12 LIN P2[I] and LIN P2[1]; the
+  // REPEAT pass P2[12] ... P2[1]; the lift. XSAFE is the first point.
+  ASSERT_EQ(p.moves.size(), 40u);
+  EXPECT_EQ(p.moves[0].kind, MotionKind::dwell);
+  EXPECT_EQ(p.moves[0].dwell_s, 1.0);
+  double length_m = 0.0;
+  Vector3d low = Vector3d::Constant(1e9), high = Vector3d::Constant(-1e9);
+  for (std::size_t n = 1; n < p.moves.size(); ++n) {
+    const auto& move = p.moves[n];
+    EXPECT_EQ(move.kind, MotionKind::linear) << n;
+    EXPECT_EQ(move.feed_m_s, 0.02) << n;  // $VEL.CP = FEED, DECL REAL FEED=0.02
+    EXPECT_EQ(move.tool, 1) << n;
+    expect_near(move.axis_end, Vector3d(0, 0, 1));
+    length_m += (move.end_m - move.start_m).norm();
+    low = low.cwiseMin(move.end_m);
+    high = high.cwiseMax(move.end_m);
+  }
+  // Plunge 52 mm, three 120 mm rounds of the 40 x 20 mm wall, 2 mm down, 50 mm up.
+  EXPECT_NEAR(length_m, 0.464, 1e-12);
+  expect_near(low, Vector3d(0, 0, -0.004));
+  expect_near(high, Vector3d(0.040, 0.020, 0.046));
+  expect_near(p.moves[1].start_m, Vector3d(0, 0, 0.050));
+  expect_near(p.moves[14].end_m, Vector3d(0, 0, -0.004));  // LIN P2[1] in the WHILE
+  EXPECT_EQ(p.moves[14].line, 34);
+  expect_near(p.moves[27].end_m, Vector3d(0, 0.010, -0.004));  // REPEAT starts at P2[12]
+  EXPECT_EQ(p.moves[27].line, 42);
+  EXPECT_TRUE(has_note(p, "ends after a PTP to an axis position"));
+  // One pass only: the ELSE branch lifts 10 mm before the final 50 mm.
+  std::string one_pass = dat;
+  one_pass.replace(one_pass.find("PASSES=2"), 8, "PASSES=1");
+  p = read_krl(corpus("krl/frame_array_loop.src"), options_with(one_pass));
+  ASSERT_EQ(p.moves.size(), 16u);
+  expect_near(p.moves.back().end_m, Vector3d(0, 0, 0.058));
+}
+
 TEST(KrlReader, ControlFlowAndCallsAreRefusedByLineAndWord) {
   InputError e = error_of("LIN {X 0,Y 0,Z 0,A 0,B 90,C 0}\nWHILE TRUE\nENDWHILE\n");
   EXPECT_EQ(e.line(), 3);

@@ -1,0 +1,95 @@
+&ACCESS RVP
+&REL 7
+&PARAM TEMPLATE = C:\KRC\Roboter\Template\vorgabe
+&PARAM EDITMASK = *
+DEF frame_array_loop( )
+DECL INT I
+DECL INT K
+;FOLD INI;%{PE}
+;FOLD BASISTECH INI
+GLOBAL INTERRUPT DECL 3 WHEN $STOPMESS==TRUE DO IR_STOPM ( )
+INTERRUPT ON 3
+BAS (#INITMOV,0 )
+;ENDFOLD (BASISTECH INI)
+;FOLD USER INI
+;Make your modifications here
+;ENDFOLD (USER INI)
+;ENDFOLD (INI)
+$TOOL = TOOL_DATA[1]
+$BASE = BASE_DATA[1]
+PTP XHOME
+PTP XSAFE C_PTP
+$VEL.CP = FEED
+$OUT[1] = TRUE ; spindle
+WAIT SEC 1.0
+; first depth: FOR over the table
+FOR I = 1 TO N
+  LIN P[I] C_DIS
+ENDFOR
+LIN P[1]
+IF PASSES > 1 THEN
+  ; second depth: WHILE over the second table
+  I = 1
+  WHILE I <= N
+    LIN P2[I] C_DIS
+    I = I + 1
+  ENDWHILE
+  LIN P2[1]
+  ; spring pass the other way round
+  K = N
+  REPEAT
+    CONTINUE
+    LIN P2[K] C_DIS
+    K = K - 1
+  UNTIL K < 1
+ELSE
+  LIN_REL {Z 10.0}
+ENDIF
+LIN_REL {Z 50.0}
+$OUT[1] = FALSE
+PTP XHOME
+END
+---
+&ACCESS RVP
+&REL 7
+&PARAM TEMPLATE = C:\KRC\Roboter\Template\vorgabe
+&PARAM EDITMASK = *
+DEFDAT  frame_array_loop PUBLIC
+;FOLD EXTERNAL DECLARATIONS;%{PE}%MKUKATPBASIS,%CEXT,%VCOMMON,%P
+;FOLD BASISTECH EXT;%{PE}%MKUKATPBASIS,%CEXT,%VEXT,%P
+EXT  BAS (BAS_COMMAND  :IN,REAL  :IN )
+DECL INT SUCCESS
+;ENDFOLD (BASISTECH EXT)
+;ENDFOLD (EXTERNAL DECLARATIONS)
+; contour of a 40 x 20 mm pocket wall, one table per depth
+DECL INT N=12
+DECL INT PASSES=2
+DECL REAL FEED=0.02
+DECL FRAME P[100]
+P[1]={X 0.0,Y 0.0,Z -2.0,A 0.0,B 90.0,C 0.0}
+P[2]={X 10.0,Y 0.0,Z -2.0,A 0.0,B 90.0,C 0.0}
+P[3]={X 20.0,Y 0.0,Z -2.0,A 0.0,B 90.0,C 0.0}
+P[4]={X 30.0,Y 0.0,Z -2.0,A 0.0,B 90.0,C 0.0}
+P[5]={X 40.0,Y 0.0,Z -2.0,A 0.0,B 90.0,C 0.0}
+P[6]={X 40.0,Y 10.0,Z -2.0,A 0.0,B 90.0,C 0.0}
+P[7]={X 40.0,Y 20.0,Z -2.0,A 0.0,B 90.0,C 0.0}
+P[8]={X 30.0,Y 20.0,Z -2.0,A 0.0,B 90.0,C 0.0}
+P[9]={X 20.0,Y 20.0,Z -2.0,A 0.0,B 90.0,C 0.0}
+P[10]={X 10.0,Y 20.0,Z -2.0,A 0.0,B 90.0,C 0.0}
+P[11]={X 0.0,Y 20.0,Z -2.0,A 0.0,B 90.0,C 0.0}
+P[12]={X 0.0,Y 10.0,Z -2.0,A 0.0,B 90.0,C 0.0}
+DECL FRAME P2[100]
+P2[1]={X 0.0,Y 0.0,Z -4.0,A 0.0,B 90.0,C 0.0}
+P2[2]={X 10.0,Y 0.0,Z -4.0,A 0.0,B 90.0,C 0.0}
+P2[3]={X 20.0,Y 0.0,Z -4.0,A 0.0,B 90.0,C 0.0}
+P2[4]={X 30.0,Y 0.0,Z -4.0,A 0.0,B 90.0,C 0.0}
+P2[5]={X 40.0,Y 0.0,Z -4.0,A 0.0,B 90.0,C 0.0}
+P2[6]={X 40.0,Y 10.0,Z -4.0,A 0.0,B 90.0,C 0.0}
+P2[7]={X 40.0,Y 20.0,Z -4.0,A 0.0,B 90.0,C 0.0}
+P2[8]={X 30.0,Y 20.0,Z -4.0,A 0.0,B 90.0,C 0.0}
+P2[9]={X 20.0,Y 20.0,Z -4.0,A 0.0,B 90.0,C 0.0}
+P2[10]={X 10.0,Y 20.0,Z -4.0,A 0.0,B 90.0,C 0.0}
+P2[11]={X 0.0,Y 20.0,Z -4.0,A 0.0,B 90.0,C 0.0}
+P2[12]={X 0.0,Y 10.0,Z -4.0,A 0.0,B 90.0,C 0.0}
+DECL E6POS XSAFE={X 0.0,Y 0.0,Z 50.0,A 0.0,B 90.0,C 0.0,S 6,T 27,E1 0.0,E2 0.0,E3 0.0,E4 0.0,E5 0.0,E6 0.0}
+ENDDAT
