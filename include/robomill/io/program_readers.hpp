@@ -54,10 +54,21 @@ toolpath::Program read_gcode(std::string_view text, const GcodeOptions& options)
 
 /// APT / CL data (ISO 4343-style, as CAM systems write it): GOTO/x,y,z[,i,j,k]
 /// (the axis stays modal when omitted), FROM, FEDRAT (MMPM/IPM, either order),
-/// SPINDL (RPM, CLW/CCW, OFF), RAPID, CUTTER, LOAD/TOOL and LOADTL, MULTAX,
-/// UNITS/UNIT, CIRCLE (with the GOTO that ends it), CYCLE/DRILL, `$`
-/// continuations and `$$` comments; MSYS/CSYS frames.
-using AptOptions = ProgramReadOptions;
+/// SPINDL (RPM, CLW/CCW, OFF), RAPID, CUTTER/TLDATA, LOAD/TOOL and LOADTL,
+/// MULTAX, UNITS/UNIT, CIRCLE (with the GOTO that ends it), CYCLE/DRILL, `$`
+/// continuations and `$$` comments; MSYS/CSYS frames. Vendor records that
+/// neither move the tool nor change how it moves (docs/toolpath.md lists
+/// them) are skipped with a note giving their line and count.
+struct AptOptions : ProgramReadOptions {
+  /// The length unit of a program without a UNITS record (the job's
+  /// `toolpath.units`): NX writes none, so an inch CLSF says inch only in
+  /// its feeds. Unset: inch when the first feed is IPM/IPR, else mm (noted).
+  /// A UNITS record that disagrees with a set unit is refused.
+  enum class Unit { mm, inch };
+  std::optional<Unit> units;
+  /// Where the unit was set, for messages ("toolpath.units").
+  std::string units_source = "toolpath.units";
+};
 toolpath::Program read_apt(std::string_view text, const AptOptions& options);
 
 /// KUKA KRL: LIN, CIRC and PTP with {X, Y, Z, A, B, C} frames (mm, deg; A B C
