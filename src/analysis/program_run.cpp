@@ -51,21 +51,29 @@ toolpath::DexelStock job_stock(const io::Job& job) {
 namespace {
 
 // A program length that matches the job's only in the other unit: the
-// program was read in the wrong one (an NX CLSF has no UNITS record), and
-// the error says which key fixes it. Empty when it matches in neither.
-std::string other_unit_hint(double program_m, double job_m) {
-  constexpr double kInchPerMm = 25.4;
+// program was read in the wrong one, and the error says what fixes it — for
+// a CL file without a UNITS record (an NX CLSF) toolpath.units, else the
+// program's own unit word. Empty when it matches in neither unit.
+std::string other_unit_hint(double program_m, double job_m, const toolpath::Program& program) {
+  constexpr double kMmPerInch = 25.4;
   const auto same = [](double a, double b) { return std::abs(a - b) <= 1e-6 + 1e-6 * b; };
-  if (job_m > 0.0 && same(program_m * kInchPerMm, job_m))
+  // The APT reader notes "no UNITS record: ..." exactly when the file has none.
+  bool undeclared = false;
+  for (const toolpath::ProgramNote& note : program.notes)
+    undeclared =
+        undeclared || (program.dialect == "apt" && note.text.starts_with("no UNITS record"));
+  const auto fix = [&](const char* unit) {
+    return undeclared ? fmt::format("say so with toolpath.units: {}", unit)
+                      : std::string("check the program's unit word (UNITS, G20/G21)");
+  };
+  if (job_m > 0.0 && same(program_m * kMmPerInch, job_m))
     return fmt::format(
-        " (read in inches it is {:.4g} mm, the job's: if the program is in inches, say so with "
-        "toolpath.units: inch)",
-        program_m * kInchPerMm * 1e3);
-  if (job_m > 0.0 && same(program_m / kInchPerMm, job_m))
+        " (read in inches it is {:.4g} mm, the job's: if the program is in inches, {})",
+        program_m * kMmPerInch * 1e3, fix("inch"));
+  if (job_m > 0.0 && same(program_m / kMmPerInch, job_m))
     return fmt::format(
-        " (read in millimetres it is {:.4g} mm, the job's: if the program is in millimetres, say "
-        "so with toolpath.units: mm)",
-        program_m / kInchPerMm * 1e3);
+        " (read in millimetres it is {:.4g} mm, the job's: if the program is in millimetres, {})",
+        program_m / kMmPerInch * 1e3, fix("mm"));
   return {};
 }
 
@@ -93,7 +101,7 @@ toolpath::Tooling job_tooling(const io::Job& job, const toolpath::Program& progr
           fmt::format("the program's cutter T{} is {:.4g} mm in diameter, {} is "
                       "{:.4g} mm{}; describe the program's cutter",
                       call.tool, *call.diameter_m * 1e3, where, cutter.diameter_m() * 1e3,
-                      other_unit_hint(*call.diameter_m, cutter.diameter_m())));
+                      other_unit_hint(*call.diameter_m, cutter.diameter_m(), program)));
     if (call.corner_radius_m) {
       // 0: flat, R: ball, r_c: bull nose (Tool::corner_radius_m gives each).
       const double job_corner = cutter.corner_radius_m();
@@ -113,7 +121,7 @@ toolpath::Tooling job_tooling(const io::Job& job, const toolpath::Program& progr
                         cutter.type() == tool::ToolType::ball   ? "ball"
                         : cutter.type() == tool::ToolType::bull ? "bull-nose"
                                                                 : "flat",
-                        job_corner * 1e3, other_unit_hint(r, job_corner)));
+                        job_corner * 1e3, other_unit_hint(r, job_corner, program)));
       }
     }
   }

@@ -75,6 +75,7 @@ using toolpath::Move;
 constexpr double kMillimetre = 1e-3;
 constexpr double kInch = 0.0254;
 constexpr double kRpmToRadS = 2.0 * std::numbers::pi / 60.0;
+constexpr std::string_view kUnitsKey = "toolpath.units";  // the job's key for AptOptions::units
 
 // ---------------------------------------------------------------------------
 // Records: physical lines joined by `$` continuations, comments removed.
@@ -361,51 +362,71 @@ toolpath::Program AptReader::read(std::string_view text) {
   return std::move(program_);
 }
 
-// The unit of lengths before any UNITS record: the job's, else the first
-// feed's (NX CLSF: FEDRAT/IPM is the only word on inch), else millimetres.
-void AptReader::settle_units(const std::vector<Record>& records) {
-  using Unit = AptOptions::Unit;
-  bool declared = false;
-  std::optional<std::pair<int, std::string>> first_feed;  // line, unit word
+// What a program says about its unit before its first UNITS record.
+struct UnitEvidence {
+  bool declared = false;                                  // a UNITS record before FINI
+  std::optional<std::pair<int, std::string>> first_feed;  // line, "FEDRAT/IPM"
+  bool feed_in_inches() const {
+    return first_feed &&
+           (first_feed->second.ends_with("IPM") || first_feed->second.ends_with("IPR"));
+  }
+};
+
+UnitEvidence unit_evidence(const std::vector<Record>& records) {
+  UnitEvidence evidence;
   for (const Record& record : records) {
     if (record.word == "FINI")
       break;
     if (record.word == "UNITS" || record.word == "UNIT")
-      declared = true;
-    if (first_feed || (record.word != "FEDRAT" && record.word != "CYCLE"))
+      evidence.declared = true;
+    if (evidence.first_feed || (record.word != "FEDRAT" && record.word != "CYCLE"))
       continue;
     for (std::string_view piece : pt::split_top_level(record.arguments)) {
       const std::string_view w = pt::trim(piece);
       if (w == "IPM" || w == "IPR" || w == "MMPM" || w == "MMPR") {
-        first_feed = {record.line, record.word + "/" + std::string(w)};
+        evidence.first_feed = {record.line, record.word + "/" + std::string(w)};
         break;
       }
     }
   }
+  return evidence;
+}
+
+// The unit of lengths before any UNITS record: the job's, else (no UNITS
+// record) the first feed's, else millimetres (apt_leading_unit says the same).
+AptOptions::Unit leading_unit(const UnitEvidence& evidence,
+                              std::optional<AptOptions::Unit> job_units) {
+  if (job_units)
+    return *job_units;
+  return !evidence.declared && evidence.feed_in_inches() ? AptOptions::Unit::inch
+                                                         : AptOptions::Unit::mm;
+}
+
+void AptReader::settle_units(const std::vector<Record>& records) {
+  using Unit = AptOptions::Unit;
+  const UnitEvidence evidence = unit_evidence(records);
+  const Unit unit = leading_unit(evidence, options_.units);
+  length_m_per_unit_ = unit == Unit::inch ? kInch : kMillimetre;
+  if (evidence.declared)
+    return;  // the record rules (and must agree with the job's unit)
+  const auto& first_feed = evidence.first_feed;
   if (options_.units) {
-    length_m_per_unit_ = *options_.units == Unit::inch ? kInch : kMillimetre;
-    if (!declared)
-      note(0, std::string("no UNITS record: lengths read in ") +
-                  (*options_.units == Unit::inch ? "inches" : "millimetres") + " (" +
-                  options_.units_source + ")");
-    return;
-  }
-  if (declared)
-    return;  // the record rules; lengths before it are millimetres, as ever
-  if (first_feed && (first_feed->second.ends_with("IPM") || first_feed->second.ends_with("IPR"))) {
-    length_m_per_unit_ = kInch;
+    note(0, std::string("no UNITS record: lengths read in ") +
+                (unit == Unit::inch ? "inches" : "millimetres") + " (" + std::string(kUnitsKey) +
+                ")");
+  } else if (unit == Unit::inch) {
     note(first_feed->first,
          "no UNITS record: " + first_feed->second + " (line " + std::to_string(first_feed->first) +
              ") gives feeds in inches, so coordinates and tool sizes are read in inches; set " +
-             options_.units_source + ": mm if they are millimetres");
-    return;
+             std::string(kUnitsKey) + ": mm if they are millimetres");
+  } else {
+    note(first_feed ? first_feed->first : 0,
+         "no UNITS record: coordinates read in millimetres" +
+             (first_feed ? " (as " + first_feed->second + " on line " +
+                               std::to_string(first_feed->first) + " gives feeds)"
+                         : std::string()) +
+             "; set " + std::string(kUnitsKey) + ": inch if they are inches");
   }
-  note(first_feed ? first_feed->first : 0,
-       "no UNITS record: coordinates read in millimetres" +
-           (first_feed ? " (as " + first_feed->second + " on line " +
-                             std::to_string(first_feed->first) + " gives feeds)"
-                       : std::string()) +
-           "; set " + options_.units_source + ": inch if they are inches");
 }
 
 void AptReader::dispatch(const Record& record) {
@@ -598,9 +619,9 @@ void AptReader::read_units(const Record& record) {
   if (options_.units && *options_.units != said)
     fail(record.line, record.word + "/" + unit + " says the program is in " +
                           (said == AptOptions::Unit::mm ? "millimetres" : "inches") + ", but " +
-                          options_.units_source + " says " +
+                          std::string(kUnitsKey) + " says " +
                           (said == AptOptions::Unit::mm ? "inch" : "mm") +
-                          "; make them agree (or remove " + options_.units_source +
+                          "; make them agree (or remove " + std::string(kUnitsKey) +
                           ": the program's UNITS record rules)");
 }
 
@@ -1105,6 +1126,10 @@ void AptReader::finish(Move& move, int line, const std::optional<Feed>& feed) {
 
 toolpath::Program read_apt(std::string_view text, const AptOptions& options) {
   return AptReader(options).read(text);
+}
+
+AptOptions::Unit apt_leading_unit(std::string_view text, std::optional<AptOptions::Unit> units) {
+  return leading_unit(unit_evidence(split_records(text)), units);
 }
 
 }  // namespace robomill::io

@@ -493,6 +493,18 @@ TEST(AptReader, TheJobsUnitRulesAProgramWithoutUnitsRecord) {
   EXPECT_NE(std::string(e.what()).find("toolpath.units says inch"), std::string::npos);
 }
 
+TEST(AptReader, LeadingUnitForWritersFollowsTheReadersRule) {
+  using robomill::io::apt_leading_unit;
+  using Unit = AptOptions::Unit;
+  EXPECT_EQ(apt_leading_unit("GOTO/1,0,0\nFEDRAT/IPM,10\n"), Unit::inch);
+  EXPECT_EQ(apt_leading_unit("GOTO/1,0,0\nFEDRAT/IPM,10\n", Unit::mm), Unit::mm);
+  EXPECT_EQ(apt_leading_unit("FEDRAT/MMPM,10\nFEDRAT/IPM,10\n"), Unit::mm);
+  EXPECT_EQ(apt_leading_unit("GOTO/1,0,0\n"), Unit::mm);
+  // A UNITS record rules from where it stands: before it, millimetres.
+  EXPECT_EQ(apt_leading_unit("GOTO/1,0,0\nUNITS/INCHES\nFEDRAT/IPM,10\n"), Unit::mm);
+  EXPECT_EQ(apt_leading_unit("UNITS/INCHES\n", Unit::inch), Unit::inch);
+}
+
 // --- Vendor records ------------------------------------------------------
 
 TEST(AptReader, RecordsThatChangeNothingAreSkippedWithLineAndCount) {

@@ -66,10 +66,13 @@ struct AptOptions : ProgramReadOptions {
   /// A UNITS record that disagrees with a set unit is refused.
   enum class Unit { mm, inch };
   std::optional<Unit> units;
-  /// Where the unit was set, for messages ("toolpath.units").
-  std::string units_source = "toolpath.units";
 };
 toolpath::Program read_apt(std::string_view text, const AptOptions& options);
+/// The unit of an APT program's lengths before its first UNITS record, by
+/// read_apt's rule (`units` if set; else, without a UNITS record, the first
+/// feed's; else mm): for a writer that edits the program's numbers.
+AptOptions::Unit apt_leading_unit(std::string_view text,
+                                  std::optional<AptOptions::Unit> units = std::nullopt);
 
 /// KUKA KRL: LIN, CIRC and PTP with {X, Y, Z, A, B, C} frames (mm, deg; A B C
 /// the KUKA Z-Y'-X'' angles), positions named in the .dat file (DECL FRAME /
