@@ -281,7 +281,7 @@ CompensationOutcome compensate_program(const io::Job& job, const io::RobotPathSe
       edited.skipped = std::move(krl_edits.skipped);
       dat_edited = std::move(krl_edits.dat);
     } else {
-      edited = io::write_point_edits(text, settings.format, point_edits);
+      edited = io::write_point_edits(text, settings.format, point_edits, settings.units);
     }
     if (edited.skipped.empty())
       break;

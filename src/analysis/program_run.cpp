@@ -48,6 +48,37 @@ toolpath::DexelStock job_stock(const io::Job& job) {
   }
 }
 
+namespace {
+
+// A program length that matches the job's only in the other unit: the
+// program was read in the wrong one, and the error says what fixes it — for
+// a CL file without a UNITS record (an NX CLSF) toolpath.units, else the
+// program's own unit word. Empty when it matches in neither unit.
+std::string other_unit_hint(double program_m, double job_m, const toolpath::Program& program) {
+  constexpr double kMmPerInch = 25.4;
+  const auto same = [](double a, double b) { return std::abs(a - b) <= 1e-6 + 1e-6 * b; };
+  // The APT reader notes "no UNITS record: ..." exactly when the file has none.
+  bool undeclared = false;
+  for (const toolpath::ProgramNote& note : program.notes)
+    undeclared =
+        undeclared || (program.dialect == "apt" && note.text.starts_with("no UNITS record"));
+  const auto fix = [&](const char* unit) {
+    return undeclared ? fmt::format("say so with toolpath.units: {}", unit)
+                      : std::string("check the program's unit word (UNITS, G20/G21)");
+  };
+  if (job_m > 0.0 && same(program_m * kMmPerInch, job_m))
+    return fmt::format(
+        " (read in inches it is {:.4g} mm, the job's: if the program is in inches, {})",
+        program_m * kMmPerInch * 1e3, fix("inch"));
+  if (job_m > 0.0 && same(program_m / kMmPerInch, job_m))
+    return fmt::format(
+        " (read in millimetres it is {:.4g} mm, the job's: if the program is in millimetres, {})",
+        program_m / kMmPerInch * 1e3, fix("mm"));
+  return {};
+}
+
+}  // namespace
+
 toolpath::Tooling job_tooling(const io::Job& job, const toolpath::Program& program) {
   toolpath::Tooling tooling;
   const io::ToolpathSettings& settings = *job.toolpath;
@@ -68,18 +99,30 @@ toolpath::Tooling job_tooling(const io::Job& job, const toolpath::Program& progr
       throw InputError(
           settings.file.filename().string(), call.line,
           fmt::format("the program's cutter T{} is {:.4g} mm in diameter, {} is "
-                      "{:.4g} mm; describe the program's cutter",
-                      call.tool, *call.diameter_m * 1e3, where, cutter.diameter_m() * 1e3));
+                      "{:.4g} mm{}; describe the program's cutter",
+                      call.tool, *call.diameter_m * 1e3, where, cutter.diameter_m() * 1e3,
+                      other_unit_hint(*call.diameter_m, cutter.diameter_m(), program)));
     if (call.corner_radius_m) {
-      const bool ball = cutter.type() == tool::ToolType::ball;
-      const double job_corner = ball ? cutter.radius_m() : 0.0;
-      if (std::abs(*call.corner_radius_m - job_corner) > 1e-6)
-        throw InputError(settings.file.filename().string(), call.line,
-                         fmt::format("the program's cutter T{} has a corner radius of {:.4g} mm, "
-                                     "{} is a {} end mill (corner radius {:.4g} mm); robomill "
-                                     "models flat (0) and ball (R) ends",
-                                     call.tool, *call.corner_radius_m * 1e3, where,
-                                     ball ? "ball" : "flat", job_corner * 1e3));
+      // 0: flat, R: ball, r_c: bull nose (Tool::corner_radius_m gives each).
+      const double job_corner = cutter.corner_radius_m();
+      if (std::abs(*call.corner_radius_m - job_corner) > 1e-6) {
+        const double r = *call.corner_radius_m;
+        const double R = cutter.radius_m();
+        const std::string program_kind = r <= 1e-9                 ? "a flat end mill"
+                                         : std::abs(r - R) <= 1e-6 ? "a ball-end mill"
+                                                                   : "a bull-nose end mill";
+        throw InputError(
+            settings.file.filename().string(), call.line,
+            fmt::format("the program's cutter T{} has a corner radius of {:.4g} mm ({}), {} is a "
+                        "{} end mill with corner radius {:.4g} mm{}; robomill models flat (0), "
+                        "bull-nose (0 < r < R: tool.type: bull with tool.corner_radius) and ball "
+                        "(R) ends: describe the program's cutter",
+                        call.tool, r * 1e3, program_kind, where,
+                        cutter.type() == tool::ToolType::ball   ? "ball"
+                        : cutter.type() == tool::ToolType::bull ? "bull-nose"
+                                                                : "flat",
+                        job_corner * 1e3, other_unit_hint(r, job_corner, program)));
+      }
     }
   }
   return tooling;

@@ -38,6 +38,14 @@
 //    each move; a feed move with one and no spindle speed is refused.
 //  * SELCTL/n preselects the next tool (ICAM): a note, no tool change;
 //    LOAD/TOOL, LOADTL and TOOLNO change the tool.
+//  * Units: a UNITS record rules from where it stands. Siemens NX writes
+//    none, so an inch CLSF says inch only in FEDRAT/IPM and the tool's size:
+//    without a UNITS record the job's toolpath.units rules, else the unit of
+//    the first feed (IPM/IPR: inch, MMPM/MMPR: mm), else mm; each with a note.
+//  * Records that neither move the tool nor change how it moves (operator
+//    text, display, vocabulary, tool preselection, vendor bookkeeping) are
+//    skipped and noted once per word with the first line and the count; a
+//    word that would change the path and is not modelled is refused.
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -48,6 +56,7 @@
 #include <set>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "program_text.hpp"
@@ -66,6 +75,7 @@ using toolpath::Move;
 constexpr double kMillimetre = 1e-3;
 constexpr double kInch = 0.0254;
 constexpr double kRpmToRadS = 2.0 * std::numbers::pi / 60.0;
+constexpr std::string_view kUnitsKey = "toolpath.units";  // the job's key for AptOptions::units
 
 // ---------------------------------------------------------------------------
 // Records: physical lines joined by `$` continuations, comments removed.
@@ -181,8 +191,16 @@ struct Feed {
 struct Circle {
   Vector3d centre_m;
   Vector3d normal;
-  double radius_m = 0.0;
+  double radius_m = 0.0;  // 0: not written (CAMWorks' 6-number CIRCLE): the start's
   int line = 0;
+};
+
+// A skipped word's first line, its count and why it changes nothing.
+struct Skipped {
+  std::string word;
+  int first_line = 0;
+  int count = 0;
+  std::string_view why;
 };
 
 struct DrillCycle {
@@ -219,6 +237,9 @@ class AptReader {
   Vector3d direction(const Record& record, std::string_view word, const double* ijk) const;
 
   void dispatch(const Record& record);
+  bool skip(const Record& record);
+  void skipped(const Record& record, std::string_view why);
+  void settle_units(const std::vector<Record>& records);
   void read_units(const Record& record);
   void read_fedrat(const Record& record);
   void read_spindl(const Record& record);
@@ -246,7 +267,6 @@ class AptReader {
   std::set<std::string> noted_;
 
   double length_m_per_unit_ = kMillimetre;
-  bool units_seen_ = false;
   Eigen::Isometry3d frame_ = Eigen::Isometry3d::Identity();  // CL frame → program frame
   std::optional<Vector3d> position_;
   Vector3d position_axis_ = Vector3d::UnitZ();  // the tool axis at position_
@@ -265,6 +285,7 @@ class AptReader {
   std::optional<std::size_t> cutter_waiting_for_load_;  // a CUTTER that precedes its LOADTL
   std::optional<std::size_t> load_waiting_for_cutter_;  // a LOADTL that precedes its CUTTER
   bool stopped_ = false;
+  std::vector<Skipped> skipped_;  // in the order first met
 };
 
 std::vector<Token> AptReader::tokens(const Record& record) const {
@@ -321,7 +342,9 @@ toolpath::Program AptReader::read(std::string_view text) {
                 "; split the program or raise the limit (toolpath.max_bytes)");
   program_.line_count = static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n')) +
                         (!text.empty() && text.back() != '\n' ? 1 : 0);
-  for (const Record& record : split_records(text)) {
+  const std::vector<Record> records = split_records(text);
+  settle_units(records);
+  for (const Record& record : records) {
     if (stopped_)
       break;
     const bool goto_like = record.word == "GOTO" || record.word.empty();
@@ -332,9 +355,78 @@ toolpath::Program AptReader::read(std::string_view text) {
     fail(circle_->line,
          "CIRCLE: no GOTO ends the arc; a CIRCLE record must be followed by the "
          "GOTO of the arc's end point");
-  if (!units_seen_)
-    note(0, "no UNITS record: coordinates read in millimetres");
+  for (const Skipped& s : skipped_)
+    note(s.first_line, s.word + " (" + std::to_string(s.count) + " record" +
+                           (s.count == 1 ? "" : "s") + " from line " +
+                           std::to_string(s.first_line) + "): " + std::string(s.why) + "; skipped");
   return std::move(program_);
+}
+
+// What a program says about its unit before its first UNITS record.
+struct UnitEvidence {
+  bool declared = false;                                  // a UNITS record before FINI
+  std::optional<std::pair<int, std::string>> first_feed;  // line, "FEDRAT/IPM"
+  bool feed_in_inches() const {
+    return first_feed &&
+           (first_feed->second.ends_with("IPM") || first_feed->second.ends_with("IPR"));
+  }
+};
+
+UnitEvidence unit_evidence(const std::vector<Record>& records) {
+  UnitEvidence evidence;
+  for (const Record& record : records) {
+    if (record.word == "FINI")
+      break;
+    if (record.word == "UNITS" || record.word == "UNIT")
+      evidence.declared = true;
+    if (evidence.first_feed || (record.word != "FEDRAT" && record.word != "CYCLE"))
+      continue;
+    for (std::string_view piece : pt::split_top_level(record.arguments)) {
+      const std::string_view w = pt::trim(piece);
+      if (w == "IPM" || w == "IPR" || w == "MMPM" || w == "MMPR") {
+        evidence.first_feed = {record.line, record.word + "/" + std::string(w)};
+        break;
+      }
+    }
+  }
+  return evidence;
+}
+
+// The unit of lengths before any UNITS record: the job's, else (no UNITS
+// record) the first feed's, else millimetres (apt_leading_unit says the same).
+AptOptions::Unit leading_unit(const UnitEvidence& evidence,
+                              std::optional<AptOptions::Unit> job_units) {
+  if (job_units)
+    return *job_units;
+  return !evidence.declared && evidence.feed_in_inches() ? AptOptions::Unit::inch
+                                                         : AptOptions::Unit::mm;
+}
+
+void AptReader::settle_units(const std::vector<Record>& records) {
+  using Unit = AptOptions::Unit;
+  const UnitEvidence evidence = unit_evidence(records);
+  const Unit unit = leading_unit(evidence, options_.units);
+  length_m_per_unit_ = unit == Unit::inch ? kInch : kMillimetre;
+  if (evidence.declared)
+    return;  // the record rules (and must agree with the job's unit)
+  const auto& first_feed = evidence.first_feed;
+  if (options_.units) {
+    note(0, std::string("no UNITS record: lengths read in ") +
+                (unit == Unit::inch ? "inches" : "millimetres") + " (" + std::string(kUnitsKey) +
+                ")");
+  } else if (unit == Unit::inch) {
+    note(first_feed->first,
+         "no UNITS record: " + first_feed->second + " (line " + std::to_string(first_feed->first) +
+             ") gives feeds in inches, so coordinates and tool sizes are read in inches; set " +
+             std::string(kUnitsKey) + ": mm if they are millimetres");
+  } else {
+    note(first_feed ? first_feed->first : 0,
+         "no UNITS record: coordinates read in millimetres" +
+             (first_feed ? " (as " + first_feed->second + " on line " +
+                               std::to_string(first_feed->first) + " gives feeds)"
+                         : std::string()) +
+             "; set " + std::string(kUnitsKey) + ": inch if they are inches");
+  }
 }
 
 void AptReader::dispatch(const Record& record) {
@@ -403,20 +495,9 @@ void AptReader::dispatch(const Record& record) {
     stopped_ = true;
     return;
   }
-  // Words that change nothing robomill models.
-  static const std::set<std::string, std::less<>> kNoOps = {
-      "PARTNO", "PPRINT", "REMARK", "INSERT", "TPRINT", "TOOL PATH", "OPERATION",   "TITLES",
-      "CLPRNT", "COOLNT", "STOP",   "OPSTOP", "PPFUN",  "AUTOPS",    "INTOL",       "OUTTOL",
-      "TOLER",  "DISPLY", "OPSKIP", "PAINT",  "PLABEL", "SEQNO",     "MACHIN",      "MODE",
-      "PREFUN", "AUXFUN", "CLAMP",  "CLEARP", "TURRET", "LINTOL",    "END-OF-PATH", "REWIND",
-      "LEADER", "NOPOST", "TMARK",  "ROTABL", "PITCH",  "PPLOT",     "OPNAME",      "FINAL",
-      "MCHTOL", "ROTHED", "SET",    "PPRINT", "SAFPOS", "THICK",     "RETRCT"};
-  if (kNoOps.count(word) != 0) {
-    if (word == "ROTABL" || word == "ROTHED" || word == "RETRCT" || word == "SAFPOS")
-      note_once(word, record.line,
-                word + " is a machine-specific word with no modelled motion: ignored");
+  if (skip(record))
     return;
-  }
+  // Words that would change the path and are not modelled: refused by name.
   static const std::set<std::string, std::less<>> kGeometryWords = {
       "GOFWD",  "GOLFT", "GORGT", "GOBACK", "GOUP", "GODOWN", "GO",   "GODLTA", "INDIRV",
       "INDIRP", "TLON",  "TLLFT", "TLRGT",  "PSIS", "POINT",  "LINE", "PLANE",  "PATERN"};
@@ -424,21 +505,124 @@ void AptReader::dispatch(const Record& record) {
     fail(record.line, word +
                           ": APT part-programming statements are not modelled; output "
                           "cutter-location data (GOTO records) from the CAM system");
+  if (word == "NURBS" || word == "KNOT" || word == "CNTRL" || word == "BSPLIN")
+    fail(record.line, word +
+                          ": spline motion is not modelled; output the path as GOTO points "
+                          "(NX: NURBS output off in the machine control)");
+  if (word == "MOVARC" || word == "GOHOME" || word == "TRANS" || word == "REFSYS" ||
+      word == "COPY" || word == "INDEX" || word == "ROTATE" || word == "MIRROR" || word == "ORIGIN")
+    fail(record.line, word +
+                          " moves the tool or the frame in a way robomill does not model; "
+                          "post the path as GOTO / CIRCLE records in one frame (MSYS/CSYS)");
   fail(record.line, "'" + pt::excerpt(word) +
                         "' is not an APT / CL major word robomill reads; remove it or post the "
                         "program as GOTO, FEDRAT, SPINDL, CIRCLE records");
 }
 
+// Records that neither move the tool nor change how it moves: counted and
+// skipped. The list is closed (docs/toolpath.md, "Records skipped"); the one
+// rule beyond it is a vendor namespace known to carry post-processor data
+// only (CAMWorks' CSI_*). Returns false for anything else.
+bool AptReader::skip(const Record& record) {
+  struct Entry {
+    std::string_view word, why;
+  };
+  static constexpr std::string_view kText = "operator text";
+  static constexpr std::string_view kDisplay = "display on the CAM system's screen";
+  static constexpr std::string_view kBook = "bookkeeping for the post-processor";
+  static constexpr std::string_view kMachine = "a machine function that leaves the path as it is";
+  static constexpr std::string_view kSpecific =
+      "a machine-specific word with no modelled motion (its moves are in the GOTOs)";
+  static constexpr Entry kList[] = {
+      {"PARTNO", kText},     {"PPRINT", kText},
+      {"REMARK", kText},     {"INSERT", kText},
+      {"TPRINT", kText},     {"TOOL PATH", kText},
+      {"OPERATION", kText},  {"TITLES", kText},
+      {"CLPRNT", kText},     {"OPNAME", kText},
+      {"PAINT", kDisplay},   {"DISPLY", kDisplay},
+      {"PLABEL", kDisplay},  {"PPLOT", kDisplay},
+      {"TMARK", kDisplay},   {"PPWORD", "vocabulary: declares a post-processor word (Creo)"},
+      {"MACHIN", kBook},     {"SEQNO", kBook},
+      {"AUTOPS", kBook},     {"INTOL", kBook},
+      {"OUTTOL", kBook},     {"TOLER", kBook},
+      {"LINTOL", kBook},     {"MCHTOL", kBook},
+      {"MODE", kBook},       {"THICK", kBook},
+      {"TURRET", kBook},     {"LEADER", kBook},
+      {"REWIND", kBook},     {"END-OF-PATH", kBook},
+      {"FINAL", kBook},      {"NOPOST", kBook},
+      {"PPFUN", kBook},      {"OPSKIP", kBook},
+      {"PREFUN", kBook},     {"AUXFUN", kBook},
+      {"COOLNT", kMachine},  {"STOP", kMachine},
+      {"OPSTOP", kMachine},  {"CLAMP", kMachine},
+      {"ROTABL", kSpecific}, {"ROTHED", kSpecific},
+      {"RETRCT", kSpecific}, {"SAFPOS", kSpecific},
+      {"CLEARP", kSpecific}, {"SET", kSpecific},
+      {"PITCH", kSpecific}};
+  const std::string& word = record.word;
+  for (const Entry& entry : kList)
+    if (word == entry.word) {
+      skipped(record, entry.why);
+      return true;
+    }
+  if (word.starts_with("CSI_") && word.size() > 4) {
+    skipped(record, "CAMWorks post-processor data (CSI_*: flute and extension lengths, ...)");
+    return true;
+  }
+  if (word == "SELECT") {
+    const std::vector<Token> list =
+        tokens(record);  // NX: SELECT/TOOL, n after LOAD/TOOL readies the next tool
+    if (list.size() == 2 && list[0].is_word() && list[0].text == "TOOL" && !list[1].is_word()) {
+      skipped(record, "tool preselection ahead of a LOAD (the tool changes at LOAD/TOOL)");
+      return true;
+    }
+    fail(record.line, "SELECT/" + pt::excerpt(record.arguments) +
+                          ": only SELECT/TOOL, n (a tool preselection) is read");
+  }
+  if (word == "TRNTYP") {  // CAMWorks: TRNTYP/WORLD, 0, 0, 0 says "no transformation"
+    const std::vector<Token> list = tokens(record);
+    bool zero = !list.empty() && list[0].is_word() && list[0].text == "WORLD";
+    for (std::size_t n = 1; zero && n < list.size(); ++n)
+      zero = !list[n].is_word() && *list[n].number == 0.0;
+    if (zero) {
+      skipped(record, "a transformation of the world frame by zero: no change");
+      return true;
+    }
+    fail(record.line, "TRNTYP/" + pt::excerpt(record.arguments) +
+                          ": a coordinate transformation is not modelled (only TRNTYP/WORLD, 0, "
+                          "0, 0 is read); post the path in one frame");
+  }
+  return false;
+}
+
+void AptReader::skipped(const Record& record, std::string_view why) {
+  for (Skipped& s : skipped_)
+    if (s.word == record.word) {
+      ++s.count;
+      return;
+    }
+  skipped_.push_back({record.word, record.line, 1, why});
+}
+
 void AptReader::read_units(const Record& record) {
   const std::string unit(pt::trim(record.arguments));
-  if (unit == "MM")
+  AptOptions::Unit said;
+  if (unit == "MM") {
     length_m_per_unit_ = kMillimetre;
-  else if (unit == "INCHES" || unit == "INCH" || unit == "IN")
+    said = AptOptions::Unit::mm;
+  } else if (unit == "INCHES" || unit == "INCH" || unit == "IN") {
     length_m_per_unit_ = kInch;
-  else
+    said = AptOptions::Unit::inch;
+  } else {
     fail(record.line, record.word + "/" + pt::excerpt(unit) + ": expected " + record.word +
                           "/MM or " + record.word + "/INCHES");
-  units_seen_ = true;
+  }
+  if (options_.units && *options_.units != said)
+    fail(record.line, record.word + "/" + unit + " says the program is in " +
+                          (said == AptOptions::Unit::mm ? "millimetres" : "inches") + ", but " +
+                          std::string(kUnitsKey) + " says " +
+                          (said == AptOptions::Unit::mm ? "inch" : "mm") +
+                          "; make them agree (or remove " + std::string(kUnitsKey) +
+                          ": the program's UNITS record rules)");
 }
 
 void AptReader::read_fedrat(const Record& record) {
@@ -620,15 +804,16 @@ void AptReader::read_tool_change(const Record& record) {
 
 void AptReader::read_circle(const Record& record) {
   const std::vector<double> v = numbers(record, "CIRCLE");
-  if (v.size() < 7)
-    fail(record.line, "CIRCLE: expected xc, yc, zc, i, j, k, r (at least 7 numbers), got " +
+  // CAMWorks writes the centre and the axis only: the radius is the start's.
+  if (v.size() < 6)
+    fail(record.line, "CIRCLE: expected xc, yc, zc, i, j, k[, r] (6 or more numbers), got " +
                           std::to_string(v.size()));
-  if (!(v[6] > 0.0))
+  if (v.size() > 6 && !(v[6] > 0.0))
     fail(record.line, "CIRCLE: the radius must be positive");
   if (cycle_)
     fail(record.line, "CIRCLE inside a drill cycle; end the cycle with CYCLE/OFF first");
-  circle_ = Circle{point(record, v.data()), direction(record, "CIRCLE", v.data() + 3), length(v[6]),
-                   record.line};
+  circle_ = Circle{point(record, v.data()), direction(record, "CIRCLE", v.data() + 3),
+                   v.size() > 6 ? length(v[6]) : 0.0, record.line};
 }
 
 void AptReader::read_frame(const Record& record) {
@@ -854,15 +1039,16 @@ void AptReader::go_to(const Record& record, const Vector3d& target, const Vector
     if (arc.problem == toolpath::ArcProblem::zero_radius)
       fail(record.line, "CIRCLE (line " + std::to_string(circle.line) +
                             "): the arc's start or end lies on the circle's axis");
-    const double tolerance = std::max(1e-5, 1e-3 * circle.radius_m);
+    const double radius = circle.radius_m > 0.0 ? circle.radius_m : arc.start_radius_m;
+    const double tolerance = std::max(1e-5, 1e-3 * radius);
     if (arc.problem != toolpath::ArcProblem::none ||
-        std::abs(arc.start_radius_m - circle.radius_m) > tolerance ||
-        std::abs(arc.end_radius_m - circle.radius_m) > tolerance)
+        std::abs(arc.start_radius_m - radius) > tolerance ||
+        std::abs(arc.end_radius_m - radius) > tolerance)
       fail(record.line, "GOTO ending the CIRCLE of line " + std::to_string(circle.line) +
                             ": the start is " + std::to_string(arc.start_radius_m * 1e3) +
                             " mm and the end " + std::to_string(arc.end_radius_m * 1e3) +
                             " mm from the centre, but the radius is " +
-                            std::to_string(circle.radius_m * 1e3) +
+                            std::to_string(radius * 1e3) +
                             " mm; the CIRCLE must describe the arc from the current point to "
                             "this GOTO");
     Move move = arc.move;
@@ -940,6 +1126,10 @@ void AptReader::finish(Move& move, int line, const std::optional<Feed>& feed) {
 
 toolpath::Program read_apt(std::string_view text, const AptOptions& options) {
   return AptReader(options).read(text);
+}
+
+AptOptions::Unit apt_leading_unit(std::string_view text, std::optional<AptOptions::Unit> units) {
+  return leading_unit(unit_evidence(split_records(text)), units);
 }
 
 }  // namespace robomill::io

@@ -312,6 +312,9 @@ void read_toolpath(SectionReader& root, Job& job) {
     if (auto bases = r.section("bases"))
       read_bases(*bases, s);
     s.tool_direction = r.choice("tool_direction", {"x", "z"}, "x")[0];
+    if (r.has("units"))
+      s.units = r.choice("units", {"mm", "inch"}) == "inch" ? ToolpathSettings::Units::inch
+                                                            : ToolpathSettings::Units::mm;
     const bool krl = s.format == ToolpathSettings::Format::krl;
     if (!krl && (r.has("dat") || r.has("bases") || r.has("tool_direction")))
       r.fail(r.has("dat")     ? "dat"
@@ -320,6 +323,9 @@ void read_toolpath(SectionReader& root, Job& job) {
              "only for KRL programs (format: krl)");
     if (s.format != ToolpathSettings::Format::gcode && r.has("work_offsets"))
       r.fail("work_offsets", "only for G-code programs (format: gcode)");
+    if (s.format != ToolpathSettings::Format::apt && r.has("units"))
+      r.fail("units",
+             "only for APT / CL programs (format: apt); G-code says G20/G21, KRL is in mm");
     r.finish();
     if (s.tools.empty() && !job.tool)
       r.fail_here(

@@ -341,6 +341,7 @@ constexpr Field kFields[] = {
   {"toolpath", "dat", K::text, "", "", "the .src's .dat", "krl only", "The KRL program's data file."},
   {"toolpath", "bases", K::map, "", "", "identity", "krl only", "KRL BASE_DATA[n] by number (`1: [x, y, z, a, b, c]`, mm and deg, KUKA's A-B-C) in the program frame."},
   {"toolpath", "tool_direction", K::choice, "", "x, z", "x", "krl only", "The axis of the KRL tool frame that points from the spindle into the work ($TOOL_DIRECTION; KUKA's default #X)."},
+  {"toolpath", "units", K::choice, "", "mm, inch", "the first feed's unit (FEDRAT/IPM: inch), else mm; noted", "apt only", "The length unit of a CL file that has no UNITS record (Siemens NX writes none; an inch CLSF says inch only in FEDRAT/IPM and the tool's size). A UNITS record in the program that disagrees is refused, naming both."},
   {"robot_path", "redundancy", K::quantity, "deg", "any", "0", "", "ψ, the tool's rotation about its axis (001 §2.1.4) at every sample: at 0 the tool x is the cell x projected normal to the axis."},
   {"robot_path", "tolerance", K::quantity, "", "> 0, ≤ 0.5", "2 %", "", "An interpolated stable depth is kept only where the exact one at the interval's midpoint lies within this of it; else the interval is split."},
   {"robot_path", "max_span", K::integer, "", "1 … 100 000", "64", "", "At most this many samples between two exact stable depths."},

@@ -56,6 +56,9 @@ toolpath::Program read_program(const ToolpathSettings& settings) {
       AptOptions options;
       options.source_name = name;
       options.max_bytes = settings.max_bytes;
+      if (settings.units != ToolpathSettings::Units::unset)
+        options.units = settings.units == ToolpathSettings::Units::inch ? AptOptions::Unit::inch
+                                                                        : AptOptions::Unit::mm;
       program = read_apt(text, options);
       break;
     }

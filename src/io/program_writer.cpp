@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "robomill/core/error.hpp"
+#include "robomill/io/program_readers.hpp"
 
 namespace robomill::io {
 namespace {
@@ -694,9 +695,16 @@ void write_gcode_points(const Lines& lines, const std::map<int, const PointEdit*
 
 void write_apt_points(std::string_view text, const Lines& lines,
                       const std::map<int, const PointEdit*>& edits, std::vector<std::string>& out,
-                      std::vector<std::string>& before, PointEditResult& result) {
+                      std::vector<std::string>& before, PointEditResult& result,
+                      ToolpathSettings::Units apt_units) {
   const std::vector<int> starts = statement_starts(text, Format::apt);
-  bool inch = false, cycle = false;
+  // Before a UNITS record, the unit the reader read the lengths in (an NX
+  // CLSF has none: toolpath.units, else its first feed's unit).
+  std::optional<AptOptions::Unit> job_units;
+  if (apt_units != ToolpathSettings::Units::unset)
+    job_units =
+        apt_units == ToolpathSettings::Units::inch ? AptOptions::Unit::inch : AptOptions::Unit::mm;
+  bool inch = apt_leading_unit(text, job_units) == AptOptions::Unit::inch, cycle = false;
   // The MSYS/CSYS frame in force: coordinates p map to the part as A p + t,
   // so an offset in the part frame is A⁻¹ offset in the record's numbers.
   std::optional<Eigen::Matrix3d> to_frame = Eigen::Matrix3d::Identity();
@@ -899,7 +907,7 @@ void write_apt_points(std::string_view text, const Lines& lines,
 }  // namespace
 
 PointEditResult write_point_edits(std::string_view text, ToolpathSettings::Format format,
-                                  std::vector<PointEdit> edits) {
+                                  std::vector<PointEdit> edits, ToolpathSettings::Units apt_units) {
   if (format == Format::krl && !edits.empty())
     throw InputError("toolpath.format", 0,
                      "write_point_edits writes G-code and APT; a KRL program's points are "
@@ -915,7 +923,7 @@ PointEditResult write_point_edits(std::string_view text, ToolpathSettings::Forma
   if (format == Format::gcode)
     write_gcode_points(lines, by_line, out, before, result);
   else
-    write_apt_points(text, lines, by_line, out, before, result);
+    write_apt_points(text, lines, by_line, out, before, result, apt_units);
   const std::string_view newline =
       text.find("\r\n") != std::string_view::npos ? std::string_view("\r\n") : "\n";
   result.text.reserve(text.size() + 64 * edits.size());

@@ -126,6 +126,13 @@ robot_path:
   offset: {measure: rms, harmonics: 20, samples: 64}
   compensation: {floor: true, min_offset: 2 um, tolerance: 3 um}
 )",
+    // An NX CLSF in inches without a UNITS record, cut with a bull nose.
+    R"(name: kitchen sink nx
+tool: {type: bull, diameter: 12.7 mm, corner_radius: 1.524 mm, teeth: 4, overhang: 40 mm}
+cutting: {law: linear, Ktc: 800 N/mm^2}
+toolpath: {file: programs/profile.cls, units: inch, spindle: 6000 rpm}
+stock: {box: {min: [0, 0, -10], max: [60, 40, 0]}}
+)",
     // robomill listen: one recording with every key, and the detector's settings.
     R"(name: kitchen sink 4
 recording:

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <fstream>
 #include <numbers>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -24,9 +25,10 @@ using robomill::toolpath::Program;
 
 constexpr double kPi = std::numbers::pi;
 
-Program apt(const std::string& text) {
+Program apt(const std::string& text, std::optional<AptOptions::Unit> units = std::nullopt) {
   AptOptions options;
   options.source_name = "test.cl";
+  options.units = units;
   return read_apt(text, options);
 }
 
@@ -39,9 +41,9 @@ std::string corpus(const std::string& name) {
 }
 
 // The InputError a program raises (fails the test if none).
-InputError error_of(const std::string& text) {
+InputError error_of(const std::string& text, std::optional<AptOptions::Unit> units = std::nullopt) {
   try {
-    apt(text);
+    apt(text, units);
   } catch (const InputError& error) {
     return error;
   }
@@ -59,6 +61,38 @@ bool has_note(const Program& program, const std::string& part) {
     if (note.text.find(part) != std::string::npos)
       return true;
   return false;
+}
+
+// The line of the note containing `part` (-1: none).
+int note_line(const Program& program, const std::string& part) {
+  for (const auto& note : program.notes)
+    if (note.text.find(part) != std::string::npos)
+      return note.line;
+  return -1;
+}
+
+struct Box {
+  Vector3d min = Vector3d::Constant(1e300), max = Vector3d::Constant(-1e300);
+};
+
+// The box of every move's end points and the first move's start (m).
+Box end_point_box(const Program& p) {
+  Box box;
+  if (p.moves.empty())
+    return box;
+  box.min = box.max = p.moves.front().start_m;
+  for (const auto& move : p.moves) {
+    box.min = box.min.cwiseMin(move.end_m);
+    box.max = box.max.cwiseMax(move.end_m);
+  }
+  return box;
+}
+
+std::size_t count_kind(const Program& p, MotionKind kind) {
+  std::size_t n = 0;
+  for (const auto& move : p.moves)
+    n += move.kind == kind;
+  return n;
 }
 
 TEST(AptReader, MillimetresWithoutUnitsRecordAreNoted) {
@@ -411,6 +445,210 @@ TEST(AptReader, ErrorsNameTheLineAndTheWord) {
   EXPECT_EQ(error_of("SPINDL/SFM,300\n").line(), 1);
   EXPECT_EQ(error_of("CYCLE/CSINK,10,90\n").line(), 1);
   EXPECT_EQ(error_of("MSYS/0,0,0,1,0,0,1,0,0\n").line(), 1);  // parallel axes
+}
+
+// --- Units of a CL file that declares none (NX CLSF) ---------------------
+
+TEST(AptReader, InchInferredFromTheFirstFeedWithoutUnitsRecord) {
+  // NX writes no UNITS record: FEDRAT/IPM (line 5) is the only word on inch.
+  const Program p =
+      apt("TLDATA/MILL,0.5000,0.0600,3.0000,0.0000,0.0000\nLOAD/TOOL,1\nRAPID\nGOTO/1,0,1\n"
+          "FEDRAT/IPM,10\nGOTO/1,0,-0.5\n");
+  ASSERT_EQ(p.moves.size(), 1u);
+  expect_near(p.moves[0].start_m, Vector3d(0.0254, 0, 0.0254));
+  expect_near(p.moves[0].end_m, Vector3d(0.0254, 0, -0.0127));
+  EXPECT_NEAR(p.moves[0].feed_m_s, 10 * 0.0254 / 60, 1e-15);
+  ASSERT_EQ(p.tool_calls.size(), 1u);
+  EXPECT_NEAR(*p.tool_calls[0].diameter_m, 0.0127, 1e-15);
+  EXPECT_NEAR(*p.tool_calls[0].corner_radius_m, 0.001524, 1e-15);
+  EXPECT_EQ(note_line(p, "FEDRAT/IPM (line 5) gives feeds in inches"), 5);
+  EXPECT_TRUE(has_note(p, "toolpath.units: mm"));
+  // IPR says inch as well; MMPM first says millimetres, noted.
+  EXPECT_NEAR(apt("SPINDL/1000\nFROM/0,0,0\nFEDRAT/0.004,IPR\nGOTO/2,0,0\n").moves[0].end_m.x(),
+              0.0508, 1e-15);
+  const Program mm = apt("FROM/0,0,0\nFEDRAT/MMPM,300\nGOTO/2,0,0\nFEDRAT/IPM,10\n");
+  EXPECT_EQ(mm.moves[0].end_m.x(), 2e-3);
+  EXPECT_EQ(note_line(mm, "no UNITS record: coordinates read in millimetres (as FEDRAT/MMPM"), 2);
+}
+
+TEST(AptReader, TheJobsUnitRulesAProgramWithoutUnitsRecord) {
+  using Unit = AptOptions::Unit;
+  // toolpath.units: inch; the feed is per minute in its own unit (MMPM).
+  const Program p = apt("FROM/0,0,0\nFEDRAT/MMPM,254\nGOTO/1,2,3\n", Unit::inch);
+  expect_near(p.moves[0].end_m, Vector3d(0.0254, 0.0508, 0.0762));
+  EXPECT_NEAR(p.moves[0].feed_m_s, 0.254 / 60, 1e-15);
+  EXPECT_TRUE(has_note(p, "no UNITS record: lengths read in inches (toolpath.units)"));
+  // toolpath.units: mm wins over an IPM feed's hint.
+  EXPECT_EQ(apt("FROM/0,0,0\nFEDRAT/IPM,10\nGOTO/2,0,0\n", Unit::mm).moves[0].end_m.x(), 2e-3);
+  // A UNITS record that agrees is fine; one that disagrees names both.
+  EXPECT_NEAR(apt("UNITS/INCHES\nFROM/0,0,0\nGOTO/2,0,0\n", Unit::inch).moves[0].end_m.x(), 0.0508,
+              1e-15);
+  InputError e = error_of("PARTNO/X\nUNITS/INCHES\nFROM/0,0,0\n", Unit::mm);
+  EXPECT_EQ(e.line(), 2);
+  EXPECT_NE(std::string(e.what()).find("UNITS/INCHES says the program is in inches"),
+            std::string::npos);
+  EXPECT_NE(std::string(e.what()).find("toolpath.units says mm"), std::string::npos);
+  e = error_of("UNIT/MM\n", Unit::inch);
+  EXPECT_EQ(e.line(), 1);
+  EXPECT_NE(std::string(e.what()).find("toolpath.units says inch"), std::string::npos);
+}
+
+TEST(AptReader, LeadingUnitForWritersFollowsTheReadersRule) {
+  using robomill::io::apt_leading_unit;
+  using Unit = AptOptions::Unit;
+  EXPECT_EQ(apt_leading_unit("GOTO/1,0,0\nFEDRAT/IPM,10\n"), Unit::inch);
+  EXPECT_EQ(apt_leading_unit("GOTO/1,0,0\nFEDRAT/IPM,10\n", Unit::mm), Unit::mm);
+  EXPECT_EQ(apt_leading_unit("FEDRAT/MMPM,10\nFEDRAT/IPM,10\n"), Unit::mm);
+  EXPECT_EQ(apt_leading_unit("GOTO/1,0,0\n"), Unit::mm);
+  // A UNITS record rules from where it stands: before it, millimetres.
+  EXPECT_EQ(apt_leading_unit("GOTO/1,0,0\nUNITS/INCHES\nFEDRAT/IPM,10\n"), Unit::mm);
+  EXPECT_EQ(apt_leading_unit("UNITS/INCHES\n", Unit::inch), Unit::inch);
+}
+
+// --- Vendor records ------------------------------------------------------
+
+TEST(AptReader, RecordsThatChangeNothingAreSkippedWithLineAndCount) {
+  const Program p =
+      apt("UNITS/MM\nPAINT/PATH\nLOAD/TOOL,2,ADJUST,2\nSELECT/TOOL,4\nPPWORD/OPSKIP,1039\n"
+          "CSI_SET_FLUTE_LENGTH/19.\nCSI_SOMETHING_ELSE/1,2\nTRNTYP/WORLD,0,0,0\nFROM/0,0,0\n"
+          "PAINT/COLOR,31\nGOTO/1,0,0\nPAINT/COLOR,37\nSELECT/TOOL,5\n");
+  ASSERT_EQ(p.moves.size(), 1u);
+  EXPECT_EQ(p.moves[0].tool, 2);  // SELECT/TOOL only readies the next tool
+  EXPECT_EQ(note_line(p, "PAINT (3 records from line 2)"), 2);
+  EXPECT_EQ(note_line(p, "SELECT (2 records from line 4): tool preselection"), 4);
+  EXPECT_EQ(note_line(p, "PPWORD (1 record from line 5): vocabulary"), 5);
+  EXPECT_EQ(note_line(p, "CSI_SET_FLUTE_LENGTH (1 record from line 6): CAMWorks"), 6);
+  EXPECT_EQ(note_line(p, "CSI_SOMETHING_ELSE (1 record from line 7)"), 7);
+  EXPECT_EQ(note_line(p, "TRNTYP (1 record from line 8)"), 8);
+}
+
+TEST(AptReader, WordsThatWouldChangeThePathAreRefusedByLineAndWord) {
+  InputError e = error_of("UNITS/MM\nFROM/0,0,0\nNURBS/\nKNOT/1.0\n");
+  EXPECT_EQ(e.line(), 3);
+  EXPECT_NE(std::string(e.what()).find("NURBS: spline motion is not modelled"), std::string::npos);
+  e = error_of("UNITS/MM\nTRNTYP/WORLD,10,0,0\n");
+  EXPECT_EQ(e.line(), 2);
+  EXPECT_NE(std::string(e.what()).find("TRNTYP/WORLD,10,0,0"), std::string::npos);
+  e = error_of("UNITS/MM\nSELECT/PLANE,1\n");
+  EXPECT_EQ(e.line(), 2);
+  EXPECT_NE(std::string(e.what()).find("SELECT/TOOL, n"), std::string::npos);
+  EXPECT_EQ(error_of("UNITS/MM\nFROM/0,0,0\nMOVARC/0,0,0,0,0,1,5,90\n").line(), 3);
+  EXPECT_EQ(error_of("UNITS/MM\nCSI_/1\n").line(), 2);  // the prefix alone names nothing
+  e = error_of("UNITS/MM\nPPWORDS/1\n");                // a near miss is still unknown
+  EXPECT_NE(std::string(e.what()).find("'PPWORDS' is not an APT / CL major word"),
+            std::string::npos);
+}
+
+TEST(AptReader, CamworksCircleWithoutRadiusTakesTheStarts) {
+  // CAMWorks: CIRCLE/xc,yc,zc,i,j,k; the quarter from (10,0) clockwise to (0,-10).
+  const Program p =
+      apt("UNIT/MM\nFROM/10,0,0\nFEDRAT/100,MMPM\nCIRCLE/0,0,0,0,0,-1.\nGOTO/0,-10,0\n");
+  ASSERT_EQ(p.moves.size(), 1u);
+  EXPECT_EQ(p.moves[0].kind, MotionKind::arc);
+  EXPECT_NEAR(robomill::toolpath::path_length_m(p.moves[0]), 0.010 * kPi / 2, 1e-12);
+  const InputError e =
+      error_of("UNIT/MM\nFROM/10,0,0\nFEDRAT/100,MMPM\nCIRCLE/0,0,0,0,0,-1.\nGOTO/0,-12,0\n");
+  EXPECT_EQ(e.line(), 5);
+}
+
+// --- Real CL programs by others (tests/toolpath/apt/README.md) -----------
+
+TEST(AptReader, CamworksBossPocketReadsWithItsVendorRecords) {
+  // CAMWorks APT (aamorim1913/AptPostProcessor, parts-tools/boss.apt, GPL-3.0),
+  // its first two levels: 62 GOTOs (the first is the start), 8 CIRCLEs.
+  const Program p = apt(corpus("camworks_boss.apt"));
+  ASSERT_EQ(p.moves.size(), 61u);
+  EXPECT_EQ(count_kind(p, MotionKind::arc), 8u);
+  EXPECT_EQ(count_kind(p, MotionKind::rapid), 5u);
+  EXPECT_FALSE(has_note(p, "no UNITS record"));
+  ASSERT_EQ(p.tool_calls.size(), 1u);  // CUTTER/6.,0,3.,... then LOAD/TOOL,1
+  EXPECT_EQ(p.tool_calls[0].tool, 1);
+  EXPECT_NEAR(*p.tool_calls[0].diameter_m, 6e-3, 1e-15);
+  EXPECT_EQ(*p.tool_calls[0].corner_radius_m, 0.0);
+  for (const auto& move : p.moves) {
+    EXPECT_EQ(move.tool, 1);
+    EXPECT_NEAR(move.spindle_rad_s, 12000 * 2 * kPi / 60, 1e-9);
+  }
+  EXPECT_NEAR(p.moves[1].feed_m_s, 411.48e-3 / 60, 1e-15);   // the plunge
+  EXPECT_NEAR(p.moves[2].feed_m_s, 1645.92e-3 / 60, 1e-15);  // the cut
+  const Box box = end_point_box(p);
+  expect_near(box.min, Vector3d(77.914806e-3, -1.4375e-3, -5.993718e-3), 1e-15);
+  expect_near(box.max, Vector3d(96.4375e-3, 41.334899e-3, 25e-3), 1e-15);
+  EXPECT_EQ(note_line(p, "CSI_SET_FLUTE_LENGTH (1 record from line 6)"), 6);
+  EXPECT_EQ(note_line(p, "CSI_SET_EXTENSION_LENGTH (1 record from line 7)"), 7);
+  EXPECT_EQ(note_line(p, "SELECT (1 record from line 8)"), 8);
+  EXPECT_EQ(note_line(p, "TRNTYP (1 record from line 12)"), 12);
+  EXPECT_EQ(note_line(p, "INSERT (2 records from line 3)"), 3);
+}
+
+TEST(AptReader, NxVariableContourBallInInchesWithoutUnitsOrSpindle) {
+  // 16 zig-zag rows of 19 points on z = sqrt(4 - x^2) - 2 in, the axis along
+  // the normal (x/2, 0, (z + 2)/2): 2 rapids, the plunge, 303 cuts, the exit.
+  const Program p = apt(corpus("nx_variable_contour_ball_in.cls"));
+  ASSERT_EQ(p.moves.size(), 307u);
+  EXPECT_EQ(count_kind(p, MotionKind::rapid), 2u);
+  EXPECT_EQ(note_line(p, "FEDRAT/IPM (line 16) gives feeds in inches"), 16);
+  ASSERT_EQ(p.tool_calls.size(), 1u);
+  EXPECT_EQ(p.tool_calls[0].tool, 3);
+  EXPECT_NEAR(*p.tool_calls[0].diameter_m, 0.25 * 0.0254, 1e-15);
+  EXPECT_NEAR(*p.tool_calls[0].corner_radius_m, 0.125 * 0.0254, 1e-15);  // a ball: R
+  EXPECT_TRUE(has_note(p, "SELECT (1 record from line 8)"));
+  for (const auto& move : p.moves)
+    EXPECT_EQ(move.spindle_rad_s, 0.0);  // no SPINDL record: the job's toolpath.spindle
+  EXPECT_NEAR(p.moves[1].feed_m_s, 20 * 0.0254 / 60, 1e-15);
+  EXPECT_NEAR(p.moves[2].feed_m_s, 40 * 0.0254 / 60, 1e-15);
+  // The first cut ends at x = -0.8 in: the axis leans (-0.4, 0, 0.9165).
+  const double z = std::sqrt(4.0 - 0.64) - 2.0;
+  expect_near(p.moves[2].end_m, 0.0254 * Vector3d(-0.8, 0, z), 0.0254 * 5e-5);
+  expect_near(p.moves[2].axis_end, Vector3d(-0.4, 0, (z + 2) / 2), 2e-7);
+  // The axis stays modal between rows: the last row runs back, x 0.9 → -0.9.
+  const double zl = std::sqrt(4.0 - 0.81) - 2.0;
+  expect_near(p.moves[304].end_m, 0.0254 * Vector3d(-0.9, 1.5, zl), 0.0254 * 5e-5);
+  expect_near(p.moves[304].axis_end, Vector3d(-0.45, 0, (zl + 2) / 2), 2e-7);
+  const Box box = end_point_box(p);  // the clearance 1 in along the first and last normals
+  expect_near(box.min, 0.0254 * Vector3d(-1.35, 0, zl), 0.0254 * 5e-5);
+  expect_near(box.max, 0.0254 * Vector3d(0.9, 1.5, zl + (zl + 2) / 2), 0.0254 * 5e-5);
+}
+
+TEST(AptReader, NxProfileWithABullNoseInInches) {
+  // TLDATA/MILL,0.5,0.06: a bull nose (0 < r < R). The rapid down, two
+  // levels of 12 moves (the step down, the lead-in, 4 sides, 4 clockwise
+  // corners of radius 0.5 in, the lead-out), the exit and the rapid up.
+  const Program p = apt(corpus("nx_profile_bull_in.cls"));
+  ASSERT_EQ(p.moves.size(), 27u);
+  EXPECT_EQ(count_kind(p, MotionKind::arc), 8u);
+  EXPECT_EQ(count_kind(p, MotionKind::rapid), 2u);
+  ASSERT_EQ(p.tool_calls.size(), 1u);
+  EXPECT_NEAR(*p.tool_calls[0].diameter_m, 0.0127, 1e-15);
+  EXPECT_NEAR(*p.tool_calls[0].corner_radius_m, 0.06 * 0.0254, 1e-15);
+  EXPECT_TRUE(has_note(p, "gives feeds in inches"));
+  double arcs = 0.0;
+  for (const auto& move : p.moves)
+    if (move.kind == MotionKind::arc)
+      arcs += robomill::toolpath::path_length_m(move);
+  EXPECT_NEAR(arcs, 8 * 0.5 * 0.0254 * kPi / 2, 1e-9);  // quarters, not three-quarters
+  const Box box = end_point_box(p);
+  expect_near(box.min, 0.0254 * Vector3d(-0.25, -0.75, -0.25), 1e-12);
+  expect_near(box.max, 0.0254 * Vector3d(2.25, 1.75, 1.0), 1e-12);
+}
+
+TEST(AptReader, CreoInchesWithPpwordVocabulary) {
+  const Program p = apt(corpus("creo_bracket_in.ncl"));
+  ASSERT_EQ(p.moves.size(), 10u);
+  EXPECT_EQ(count_kind(p, MotionKind::arc), 4u);  // a full circle in four points
+  EXPECT_EQ(note_line(p, "PPWORD (2 records from line 8)"), 8);
+  ASSERT_EQ(p.tool_calls.size(), 1u);
+  EXPECT_EQ(p.tool_calls[0].tool, 2);
+  EXPECT_NEAR(*p.tool_calls[0].diameter_m, 0.0127, 1e-15);
+  EXPECT_NEAR(p.moves[3].feed_m_s, 16 * 0.0254 / 60, 1e-15);
+  double arcs = 0.0;
+  for (const auto& move : p.moves)
+    if (move.kind == MotionKind::arc)
+      arcs += robomill::toolpath::path_length_m(move);
+  EXPECT_NEAR(arcs, 2 * kPi * 0.5 * 0.0254, 1e-9);
+  const Box box = end_point_box(p);
+  expect_near(box.min, 0.0254 * Vector3d(0.5, 0.5, -0.1), 1e-12);
+  expect_near(box.max, 0.0254 * Vector3d(3.5, 2.0, 0.5), 1e-12);
 }
 
 TEST(AptReader, TooLargeIsRefusedBeforeParsing) {

@@ -283,6 +283,10 @@ struct ToolpathSettings {
   std::filesystem::path dat_file;                 ///< KRL `dat` (default: the .src's .dat)
   std::map<int, Eigen::Isometry3d> bases;         ///< KRL `bases: {1: [x, y, z, a, b, c]}`
   char tool_direction = 'x';                      ///< KRL `tool_direction`
+  /// APT `units`: the length unit of a CL file without a UNITS record (NX
+  /// writes none); unset: the first feed's unit, else mm.
+  enum class Units { unset, mm, inch };
+  Units units = Units::unset;
   int line = 0, file_line = 0, tools_line = 0;
 };
 

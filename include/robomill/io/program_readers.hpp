@@ -54,11 +54,25 @@ toolpath::Program read_gcode(std::string_view text, const GcodeOptions& options)
 
 /// APT / CL data (ISO 4343-style, as CAM systems write it): GOTO/x,y,z[,i,j,k]
 /// (the axis stays modal when omitted), FROM, FEDRAT (MMPM/IPM, either order),
-/// SPINDL (RPM, CLW/CCW, OFF), RAPID, CUTTER, LOAD/TOOL and LOADTL, MULTAX,
-/// UNITS/UNIT, CIRCLE (with the GOTO that ends it), CYCLE/DRILL, `$`
-/// continuations and `$$` comments; MSYS/CSYS frames.
-using AptOptions = ProgramReadOptions;
+/// SPINDL (RPM, CLW/CCW, OFF), RAPID, CUTTER/TLDATA, LOAD/TOOL and LOADTL,
+/// MULTAX, UNITS/UNIT, CIRCLE (with the GOTO that ends it), CYCLE/DRILL, `$`
+/// continuations and `$$` comments; MSYS/CSYS frames. Vendor records that
+/// neither move the tool nor change how it moves (docs/toolpath.md lists
+/// them) are skipped with a note giving their line and count.
+struct AptOptions : ProgramReadOptions {
+  /// The length unit of a program without a UNITS record (the job's
+  /// `toolpath.units`): NX writes none, so an inch CLSF says inch only in
+  /// its feeds. Unset: inch when the first feed is IPM/IPR, else mm (noted).
+  /// A UNITS record that disagrees with a set unit is refused.
+  enum class Unit { mm, inch };
+  std::optional<Unit> units;
+};
 toolpath::Program read_apt(std::string_view text, const AptOptions& options);
+/// The unit of an APT program's lengths before its first UNITS record, by
+/// read_apt's rule (`units` if set; else, without a UNITS record, the first
+/// feed's; else mm): for a writer that edits the program's numbers.
+AptOptions::Unit apt_leading_unit(std::string_view text,
+                                  std::optional<AptOptions::Unit> units = std::nullopt);
 
 /// KUKA KRL: LIN, CIRC and PTP with {X, Y, Z, A, B, C} frames (mm, deg; A B C
 /// the KUKA Z-Y'-X'' angles), positions named in the .dat file (DECL FRAME /

@@ -132,7 +132,10 @@ struct PointEditResult {
 ///    further points (arc pieces) or is not written as numbers.
 ///  - KRL: InputError naming `toolpath.format`: its points are moved where
 ///    the .src or the .dat writes them, by io::write_krl_point_edits.
-PointEditResult write_point_edits(std::string_view text, ToolpathSettings::Format format,
-                                  std::vector<PointEdit> edits);
+/// `apt_units` is the job's toolpath.units: an APT program's lengths before
+/// its first UNITS record are in the unit read_apt read them in.
+PointEditResult write_point_edits(
+    std::string_view text, ToolpathSettings::Format format, std::vector<PointEdit> edits,
+    ToolpathSettings::Units apt_units = ToolpathSettings::Units::unset);
 
 }  // namespace robomill::io
