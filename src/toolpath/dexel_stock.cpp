@@ -324,6 +324,26 @@ struct DexelAccess {
     return subtract(grid, ray, static_cast<float>(lo), static_cast<float>(hi)) ? 1 : 0;
   }
 
+  // The cells of each axis whose centres lie in the box a vertical cutter
+  // sweeps from tip0 to tip1 (R around the segment, up to L above it),
+  // clipped to the stock; empty when the sweep misses the stock.
+  static std::optional<std::array<IndexRange, 3>> vertical_sweep_cells(
+      const DexelStock& stock, const CutterShape& cutter, const Eigen::Vector3d& tip0,
+      const Eigen::Vector3d& tip1) {
+    const StockBox& box = stock.box_;
+    const double radius = cutter.radius_m;
+    Eigen::Vector3d lo = tip0.cwiseMin(tip1) - Eigen::Vector3d(radius, radius, 0.0);
+    Eigen::Vector3d hi = tip0.cwiseMax(tip1) + Eigen::Vector3d(radius, radius, cutter.length_m);
+    lo = lo.cwiseMax(box.min_m);
+    hi = hi.cwiseMin(box.max_m);
+    if ((hi.array() < lo.array()).any())
+      return std::nullopt;
+    std::array<IndexRange, 3> range;
+    for (int i = 0; i < 3; ++i)
+      range[i] = centres_within(lo[i], hi[i], box.min_m[i], stock.cell_m_[i], stock.counts_[i]);
+    return range;
+  }
+
   // The exact sweep of a bull nose whose axis stays +z along a level move
   // (tip0 and tip1 at one height): on each horizontal plane at height h above
   // the tip the cutter's section is a disc of radius r(h) (the torus's below
@@ -332,20 +352,14 @@ struct DexelAccess {
   // corner's height over ρ (0 inside R − r_c) up to L.
   static std::size_t sweep_bull_level(DexelStock& stock, const CutterShape& cutter,
                                       const Eigen::Vector3d& tip0, const Eigen::Vector3d& tip1) {
-    const StockBox& box = stock.box_;
+    const auto cells = vertical_sweep_cells(stock, cutter, tip0, tip1);
+    if (!cells)
+      return 0;
+    const std::array<IndexRange, 3>& range = *cells;
     const double radius = cutter.radius_m, length = cutter.length_m;
     const double corner = cutter.corner_radius_m, inner = radius - corner;
     const Eigen::Vector2d c0 = tip0.head<2>(), c1 = tip1.head<2>(), s = c1 - c0;
     const double z0 = tip0.z();
-    Eigen::Vector3d lo = tip0.cwiseMin(tip1) - Eigen::Vector3d(radius, radius, 0.0);
-    Eigen::Vector3d hi = tip0.cwiseMax(tip1) + Eigen::Vector3d(radius, radius, length);
-    lo = lo.cwiseMax(box.min_m);
-    hi = hi.cwiseMin(box.max_m);
-    if ((hi.array() < lo.array()).any())
-      return 0;
-    std::array<IndexRange, 3> range;
-    for (int i = 0; i < 3; ++i)
-      range[i] = centres_within(lo[i], hi[i], box.min_m[i], stock.cell_m_[i], stock.counts_[i]);
     std::size_t changed = 0;
     const double length2 = s.squaredNorm();
     for (int ix = range[0].first; ix <= range[0].last; ++ix) {
@@ -398,16 +412,15 @@ struct DexelAccess {
     const double z0 = tip0.z(), dz = tip1.z() - tip0.z();
     const Eigen::Vector3d ball0 = tip0 + Eigen::Vector3d(0, 0, radius);
     const Eigen::Vector3d ball1 = tip1 + Eigen::Vector3d(0, 0, radius);
-    Eigen::Vector3d lo = tip0.cwiseMin(tip1) - Eigen::Vector3d(radius, radius, 0.0);
-    Eigen::Vector3d hi = tip0.cwiseMax(tip1) + Eigen::Vector3d(radius, radius, length);
-    lo = lo.cwiseMax(box.min_m);
-    hi = hi.cwiseMin(box.max_m);
-    if ((hi.array() < lo.array()).any())
+    const auto cells = vertical_sweep_cells(stock, cutter, tip0, tip1);
+    if (!cells)
       return 0;
-    std::array<IndexRange, 3> range;
-    for (int i = 0; i < 3; ++i) {
-      range[i] = centres_within(lo[i], hi[i], box.min_m[i], stock.cell_m_[i], stock.counts_[i]);
-    }
+    const std::array<IndexRange, 3>& range = *cells;
+    // Clipped to the box, as the cells are (the rays' own limits).
+    const Eigen::Vector3d lo =
+        (tip0.cwiseMin(tip1) - Eigen::Vector3d(radius, radius, 0.0)).cwiseMax(box.min_m);
+    const Eigen::Vector3d hi =
+        (tip0.cwiseMax(tip1) + Eigen::Vector3d(radius, radius, length)).cwiseMin(box.max_m);
     std::size_t changed = 0;
 
     // z rays: per x column, only the y cells the stadium covers.
@@ -596,8 +609,13 @@ std::size_t DexelStock::remove(const CutterShape& cutter, const Eigen::Vector3d&
         centres_within(lo[grid.u], hi[grid.u], box_.min_m[grid.u], cell_m_[grid.u], grid.count_u);
     const IndexRange rv =
         centres_within(lo[grid.v], hi[grid.v], box_.min_m[grid.v], cell_m_[grid.v], grid.count_v);
+    // The ray through the cell centres, parametrised by the coordinate along
+    // it (q[g] = 0): line_cutter's span is then in workpiece coordinates, as
+    // remove_line takes it. (A start at the box's min offset every tilted
+    // removal by that min: a stock whose box does not start at 0 along an
+    // axis was cut in the wrong place.)
     Eigen::Vector3d q;
-    q[g] = box_.min_m[g];
+    q[g] = 0.0;
     for (int iv = rv.first; iv <= rv.last; ++iv) {
       q[grid.v] = cell_centre_m(grid.v, iv);
       for (int iu = ru.first; iu <= ru.last; ++iu) {

@@ -349,7 +349,7 @@ TEST(JobValidation, NonFiniteValues) {
 
 TEST(JobValidation, UnknownKeys) {
   expect_error("tool:\n  diameter: 10\n  teth: 2\n", "tool.teth", 3,
-               "unknown key; expected one of: type, diameter, teeth, helix, overhang, E, runout "
+               "unknown key; expected one of: type, corner_radius, diameter, teeth, helix, overhang, E, runout "
                "(did you mean 'teeth'?)");
   // The list grows with every section robomill learns; its start and the
   // suggestion are what matter.
@@ -374,7 +374,7 @@ TEST(JobValidation, UnknownKeys) {
 
 TEST(JobValidation, ChoicesAreChecked) {
   expect_error("tool:\n  type: conical\n", "tool.type", 2,
-               "expected one of: flat, ball; got 'conical'");
+               "expected one of: flat, ball, bull; got 'conical'");
   expect_error("cutting:\n  law: magic\n", "cutting.law", 2,
                "expected one of: linear, exponential");
   expect_error("output:\n  formats: [csv, pdf]\n", "output.formats[1]", 2, "unknown format 'pdf'");

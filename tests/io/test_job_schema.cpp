@@ -64,7 +64,8 @@ TEST(JobSchema, ParserRejectsAKeyOutsideTheSchema) {
     const std::string text = e.what();
     EXPECT_NE(text.find("tool.colour"), std::string::npos) << text;
     // The message lists the schema's keys, in the schema's order.
-    EXPECT_NE(text.find("type, diameter, teeth, helix, overhang, E, runout"), std::string::npos)
+    EXPECT_NE(text.find("type, corner_radius, diameter, teeth, helix, overhang, E, runout"),
+              std::string::npos)
         << text;
   }
 }

@@ -335,4 +335,31 @@ TEST(DexelStock, MaterialRunAlongATiltedDirection) {
   EXPECT_FALSE(stock.material_run(Vector3d(15e-3, 15e-3, 11e-3), Vector3d::UnitZ()).has_value());
 }
 
+// A cutter instance removes the same material wherever the stock's box
+// sits: the same tilted removal in a box at the origin and in one moved by
+// (−37.3, 12.9, 101.7) mm, the cutter moved with it, leaves the same volume
+// and the same top heights. (Before issue 31 the instances of a tilted axis
+// were cut offset by the box's min: nothing at all was removed from a stock
+// whose box lay far from the origin.)
+TEST(DexelStock, TiltedRemovalDoesNotDependOnWhereTheBoxSits) {
+  const Vector3d shift(-37.3e-3, 12.9e-3, 101.7e-3);
+  StockBox here = box_mm(0, 0, 0, 30, 30, 20), there = here;
+  there.min_m += shift;
+  there.max_m += shift;
+  DexelStock a(here, 0.3e-3), b(there, 0.3e-3);
+  const Vector3d axis = Vector3d(0.35, -0.2, 1).normalized();
+  const Vector3d tip0(8e-3, 9e-3, 16e-3), tip1(22e-3, 20e-3, 15e-3);
+  for (const CutterShape& cutter : {ball(3e-3), flat(3e-3), bull(3e-3, 1e-3)}) {
+    a.remove_sweep(cutter, tip0, axis, tip1, axis);
+    b.remove_sweep(cutter, tip0 + shift, axis, tip1 + shift, axis);
+  }
+  const double full = 30e-3 * 30e-3 * 20e-3;
+  EXPECT_GT(full - a.volume_m3(), 1e-7);
+  EXPECT_NEAR(a.volume_m3(), b.volume_m3(), 1e-6 * full);
+  const std::vector<double> ha = a.top_heights_m(), hb = b.top_heights_m();
+  ASSERT_EQ(ha.size(), hb.size());
+  for (std::size_t i = 0; i < ha.size(); ++i)
+    EXPECT_NEAR(ha[i] + shift.z(), hb[i], 1e-7) << i;
+}
+
 }  // namespace

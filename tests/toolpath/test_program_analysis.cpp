@@ -147,6 +147,37 @@ cutting::ForceStatistics forces_command_slot(const tool::Tool& cutter, double ap
   return cutting::summarize(cutting::sample_forces(model, {1, 90}, 1), kSpindle);
 }
 
+tool::Tool shaped_tool(tool::ToolType type, double corner_m) {
+  tool::ToolSpec spec;
+  spec.type = type;
+  spec.diameter_m = 10e-3;
+  spec.teeth = 3;
+  spec.helix_rad = 30.0 * kDeg;
+  spec.overhang_m = 40e-3;
+  spec.corner_radius_m = corner_m;
+  return tool::Tool(spec);
+}
+
+// One straight slot of depth ap through a fresh stock whose top is 20.137 mm;
+// the samples of its steady middle.
+std::vector<PathSample> steady_slot(const tool::Tool& cutter, double ap, double resolution_m) {
+  const double top = 20.137e-3;
+  DexelStock stock({Eigen::Vector3d(0, -20e-3, 0), Eigen::Vector3d(60e-3, 20e-3, top)},
+                   resolution_m);
+  Program program;
+  program.moves.push_back(
+      line_move({-10e-3, 0, top - ap}, {-10e-3, 0, top - ap}, kFeed, kSpindle, MotionKind::rapid));
+  program.moves.push_back(line_move({-10e-3, 0, top - ap}, {50e-3, 0, top - ap}, kFeed, kSpindle));
+  ProgramAnalysisSettings settings;
+  settings.force_steps_per_tooth = 90;
+  std::vector<PathSample> steady;
+  for (const PathSample& s : run(program, cutter, stock, settings).samples) {
+    if (s.kind == MotionKind::linear && s.tip_m.x() >= 10e-3 && s.tip_m.x() <= 40e-3)
+      steady.push_back(s);
+  }
+  return steady;
+}
+
 // Issue 31, point 1: the depth of cut is the program's, not the slice
 // grid's. Slots 0.3, 0.6, 1.1 and 2.2 mm deep (not multiples of the 0.25 or
 // 0.5 mm slices) under a stock top at 20.137 mm (not on any grid line), at
@@ -166,24 +197,11 @@ class ExactSlotDepth : public ::testing::TestWithParam<SlotCase> {};
 TEST_P(ExactSlotDepth, DepthAndForcesAreTheProgramsWhateverTheGrid) {
   const auto [depth_mm, resolution_mm] = GetParam();
   const tool::Tool cutter = flat_tool(10e-3, 3, 30.0);
-  const double ap = depth_mm * 1e-3, top = 20.137e-3;
-  DexelStock stock({Eigen::Vector3d(0, -20e-3, 0), Eigen::Vector3d(60e-3, 20e-3, top)},
-                   resolution_mm * 1e-3);
-  Program program;
-  program.moves.push_back(
-      line_move({-10e-3, 0, top - ap}, {-10e-3, 0, top - ap}, kFeed, kSpindle, MotionKind::rapid));
-  program.moves.push_back(line_move({-10e-3, 0, top - ap}, {50e-3, 0, top - ap}, kFeed, kSpindle));
-  ProgramAnalysisSettings settings;
-  settings.force_steps_per_tooth = 90;
-  const ProgramRun result = run(program, cutter, stock, settings);
+  const double ap = depth_mm * 1e-3;
+  const std::vector<PathSample> samples = steady_slot(cutter, ap, resolution_mm * 1e-3);
   const cutting::ForceStatistics stats = forces_command_slot(cutter, ap);
   const double fz = kFeed / (3 * 8000.0 / 60.0);
-
-  int checked = 0;
-  for (const PathSample& s : result.samples) {
-    if (s.kind != MotionKind::linear || s.tip_m.x() < 10e-3 || s.tip_m.x() > 40e-3)
-      continue;
-    ++checked;
+  for (const PathSample& s : samples) {
     ASSERT_TRUE(s.analysed) << "x = " << s.tip_m.x();
     EXPECT_NEAR(s.axial_depth_m, ap, 1e-7) << "x = " << s.tip_m.x();
     EXPECT_NEAR(s.section_m2, cutter.diameter_m() * ap, 1e-3 * cutter.diameter_m() * ap);
@@ -196,7 +214,7 @@ TEST_P(ExactSlotDepth, DepthAndForcesAreTheProgramsWhateverTheGrid) {
     EXPECT_NEAR(s.force_mean_n.z(), stats.mean_n.z(), 2e-3 * stats.mean_n.norm());
     EXPECT_NEAR(s.power_w, stats.mean_power_w, 2e-3 * std::abs(stats.mean_power_w));
   }
-  EXPECT_GT(checked, 20);
+  EXPECT_GT(samples.size(), 20u);
 }
 
 INSTANTIATE_TEST_SUITE_P(
@@ -242,37 +260,6 @@ TEST(ProgramAnalysis, ThroughSlotEngagesThePlateOnly) {
     EXPECT_NEAR(s.power_w, stats.mean_power_w, 1e-2 * std::abs(stats.mean_power_w));
   }
   EXPECT_GT(checked, 20);
-}
-
-tool::Tool shaped_tool(tool::ToolType type, double corner_m) {
-  tool::ToolSpec spec;
-  spec.type = type;
-  spec.diameter_m = 10e-3;
-  spec.teeth = 3;
-  spec.helix_rad = 30.0 * kDeg;
-  spec.overhang_m = 40e-3;
-  spec.corner_radius_m = corner_m;
-  return tool::Tool(spec);
-}
-
-// One straight slot of depth ap through a fresh stock whose top is 20.137 mm;
-// the samples of its steady middle.
-std::vector<PathSample> steady_slot(const tool::Tool& cutter, double ap, double resolution_m) {
-  const double top = 20.137e-3;
-  DexelStock stock({Eigen::Vector3d(0, -20e-3, 0), Eigen::Vector3d(60e-3, 20e-3, top)},
-                   resolution_m);
-  Program program;
-  program.moves.push_back(
-      line_move({-10e-3, 0, top - ap}, {-10e-3, 0, top - ap}, kFeed, kSpindle, MotionKind::rapid));
-  program.moves.push_back(line_move({-10e-3, 0, top - ap}, {50e-3, 0, top - ap}, kFeed, kSpindle));
-  ProgramAnalysisSettings settings;
-  settings.force_steps_per_tooth = 90;
-  std::vector<PathSample> steady;
-  for (const PathSample& s : run(program, cutter, stock, settings).samples) {
-    if (s.kind == MotionKind::linear && s.tip_m.x() >= 10e-3 && s.tip_m.x() <= 40e-3)
-      steady.push_back(s);
-  }
-  return steady;
 }
 
 // Issue 31, point 2, along a program: a bull nose with a 0.001 mm corner
