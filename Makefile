@@ -20,7 +20,11 @@ build: setup
 	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release
 	cmake --build $(BUILD) -j$(JOBS)
 
-demo: build
+# The demo builds only what it runs, the robomill program (not the tests,
+# benchmarks or Python module that `make build` adds).
+demo: setup
+	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release
+	cmake --build $(BUILD) -j$(JOBS) --target robomill
 	./$(BUILD)/robomill forces examples/demo.yaml --out out/demo/forces
 	./$(BUILD)/robomill stability examples/demo.yaml --out out/demo/stability
 	./$(BUILD)/robomill fit-modes examples/003_kr270_measured_frf.yaml --out out/demo/fit-modes

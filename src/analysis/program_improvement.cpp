@@ -732,6 +732,8 @@ ProgramImprovement improve_program(const io::Job& job, const toolpath::Program& 
         }
       });
   rerun.robot = after.finish();
+  if (corrections)
+    corrections->complete(analysis.moves);
   rerun.compared = index;
   rerun.max_force_n = analysis.max_force_n;
   rerun.max_torque_nm = analysis.max_torque_nm;

@@ -152,7 +152,7 @@ ProgramRun run_program(const io::Job& job, const ProgramRunOptions& options) {
   run.program = io::read_program(settings);
   run.tooling = std::make_unique<toolpath::Tooling>(job_tooling(job, run.program));
   toolpath::DexelStock stock = job_stock(job);
-  const toolpath::ProgramAnalysisSettings analysis_settings =
+  toolpath::ProgramAnalysisSettings analysis_settings =
       program_analysis_settings(settings, options.threads, settings.file.filename().string());
 
   // The robot along the program, when the job puts the part in a robot cell.
@@ -180,6 +180,8 @@ ProgramRun run_program(const io::Job& job, const ProgramRunOptions& options) {
   const BlockSharing* sharing =
       options.sharing && options.sharing->processes > 1 ? options.sharing : nullptr;
   const bool serving = sharing && sharing->process != 0;
+  // The sink's MPI calls must come from this thread (MPI_THREAD_FUNNELED).
+  analysis_settings.overlap_blocks = sharing == nullptr;
   FirstRunRecord record;
   std::vector<toolpath::RobotSample> robot_block;
   std::size_t block = 0;

@@ -11,6 +11,7 @@
 #include <map>
 #include <memory>
 #include <numbers>
+#include <optional>
 #include <set>
 
 #include "robomill/analysis/program_run.hpp"
@@ -84,7 +85,7 @@ std::vector<std::string> sample_columns() {
 }
 
 // The robot's columns (robot_along_path.hpp), after the program's.
-io::CsvTable sample_table(int dof = 0) {
+std::vector<std::string> sample_columns(int dof) {
   std::vector<std::string> columns = sample_columns();
   if (dof > 0) {
     columns.emplace_back("psi_deg");
@@ -96,69 +97,92 @@ io::CsvTable sample_table(int dof = 0) {
           "form_error_um", "floor_error_um", "dynamics_recomputed", "contact", "offset_um"})
       columns.emplace_back(c);
   }
-  return io::CsvTable(columns);
+  return columns;
 }
 
-void add_sample(io::CsvTable& table, const toolpath::PathSample& s,
+io::CsvTable sample_table(int dof = 0) {
+  return io::CsvTable(sample_columns(dof));
+}
+
+// A row of cells for an in-memory table (the library's samples, the
+// preview), with io::CsvText's interface: one formatting of each row for both.
+class TableRow {
+ public:
+  explicit TableRow(io::CsvTable& table) : table_(table) {}
+  void number(double value) { cells_.emplace_back(value); }
+  void word(std::string_view text) { cells_.emplace_back(std::string(text)); }
+  void blank() { cells_.emplace_back(std::string()); }
+  void end_row() {
+    table_.add_cells(cells_);
+    cells_.clear();
+  }
+
+ private:
+  io::CsvTable& table_;
+  std::vector<io::CsvTable::Cell> cells_;
+};
+
+template <class Row>
+void add_sample(Row& row, const toolpath::PathSample& s,
                 const toolpath::RobotSample* robot = nullptr) {
-  std::vector<io::CsvTable::Cell> cells = {static_cast<double>(s.line),
-                                           s.t_s,
-                                           s.tip_m.x() * 1e3,
-                                           s.tip_m.y() * 1e3,
-                                           s.tip_m.z() * 1e3,
-                                           s.axis.x(),
-                                           s.axis.y(),
-                                           s.axis.z(),
-                                           static_cast<double>(s.tool),
-                                           std::string(motion_name(s.kind)),
-                                           s.feed_m_s * 6e4,
-                                           s.spindle_rad_s * kRpmPerRadS,
-                                           s.feed_per_tooth_m * 1e3,
-                                           s.axial_depth_m * 1e3,
-                                           s.radial_width_m * 1e3,
-                                           s.engaged_rad * kDegPerRad,
-                                           s.entry_rad * kDegPerRad,
-                                           s.exit_rad * kDegPerRad,
-                                           static_cast<double>(s.arcs),
-                                           s.section_m2 * 1e6,
-                                           s.chip_area_m2 * 1e6,
-                                           s.force_mean_n.x(),
-                                           s.force_mean_n.y(),
-                                           s.force_mean_n.z(),
-                                           s.force_mean_magnitude_n,
-                                           s.force_peak_n,
-                                           s.torque_mean_nm,
-                                           s.torque_peak_nm,
-                                           s.power_w,
-                                           s.analysed ? 1.0 : 0.0,
-                                           s.plunge ? 1.0 : 0.0};
+  for (const double value :
+       {static_cast<double>(s.line), s.t_s, s.tip_m.x() * 1e3, s.tip_m.y() * 1e3, s.tip_m.z() * 1e3,
+        s.axis.x(), s.axis.y(), s.axis.z(), static_cast<double>(s.tool)})
+    row.number(value);
+  row.word(motion_name(s.kind));
+  for (const double value : {s.feed_m_s * 6e4,
+                             s.spindle_rad_s * kRpmPerRadS,
+                             s.feed_per_tooth_m * 1e3,
+                             s.axial_depth_m * 1e3,
+                             s.radial_width_m * 1e3,
+                             s.engaged_rad * kDegPerRad,
+                             s.entry_rad * kDegPerRad,
+                             s.exit_rad * kDegPerRad,
+                             static_cast<double>(s.arcs),
+                             s.section_m2 * 1e6,
+                             s.chip_area_m2 * 1e6,
+                             s.force_mean_n.x(),
+                             s.force_mean_n.y(),
+                             s.force_mean_n.z(),
+                             s.force_mean_magnitude_n,
+                             s.force_peak_n,
+                             s.torque_mean_nm,
+                             s.torque_peak_nm,
+                             s.power_w,
+                             s.analysed ? 1.0 : 0.0,
+                             s.plunge ? 1.0 : 0.0})
+    row.number(value);
   if (robot) {
     const toolpath::RobotSample& r = *robot;
-    const std::string empty;
-    cells.emplace_back(r.redundancy_rad * kDegPerRad);
+    const auto either = [&](bool present, double value) {
+      if (present)
+        row.number(value);
+      else
+        row.blank();
+    };
+    row.number(r.redundancy_rad * kDegPerRad);
     for (Eigen::Index j = 0; j < r.q_rad.size(); ++j)
-      cells.emplace_back(r.q_rad[j] * kDegPerRad);
-    cells.emplace_back(r.reachable ? 1.0 : 0.0);
-    cells.emplace_back(r.joint_margin_rad * kDegPerRad);
-    cells.emplace_back(r.singularity);
+      row.number(r.q_rad[j] * kDegPerRad);
+    row.number(r.reachable ? 1.0 : 0.0);
+    row.number(r.joint_margin_rad * kDegPerRad);
+    row.number(r.singularity);
     const bool limit = r.stability;
-    cells.emplace_back(limit ? io::CsvTable::Cell(r.depth_limit_m * 1e3) : empty);
-    cells.emplace_back(limit ? io::CsvTable::Cell(r.margin) : empty);
-    cells.emplace_back(limit ? io::CsvTable::Cell(r.chatter ? 1.0 : 0.0) : empty);
-    cells.emplace_back(limit ? io::CsvTable::Cell(r.at_risk ? 1.0 : 0.0) : empty);
-    cells.emplace_back(
-        limit && r.chatter_frequency_hz > 0.0 ? io::CsvTable::Cell(r.chatter_frequency_hz) : empty);
+    either(limit, r.depth_limit_m * 1e3);
+    either(limit, r.margin);
+    either(limit, r.chatter ? 1.0 : 0.0);
+    either(limit, r.at_risk ? 1.0 : 0.0);
+    either(limit && r.chatter_frequency_hz > 0.0, r.chatter_frequency_hz);
     const bool bent = r.reachable && s.analysed && s.kind != toolpath::MotionKind::rapid;
     for (int a = 0; a < 3; ++a)
-      cells.emplace_back(bent ? io::CsvTable::Cell(r.deflection_m[a] * 1e6) : empty);
-    cells.emplace_back(bent ? io::CsvTable::Cell(r.deflection_m.norm() * 1e6) : empty);
-    cells.emplace_back(bent && r.wall ? io::CsvTable::Cell(r.form_error_m * 1e6) : empty);
-    cells.emplace_back(bent ? io::CsvTable::Cell(r.floor_error_m * 1e6) : empty);
-    cells.emplace_back(limit ? io::CsvTable::Cell(r.exact ? 1.0 : 0.0) : empty);
-    cells.emplace_back(bent ? io::CsvTable::Cell(r.contact ? 1.0 : 0.0) : empty);
-    cells.emplace_back(r.has_offset ? io::CsvTable::Cell(r.steady_offset_m * 1e6) : empty);
+      either(bent, r.deflection_m[a] * 1e6);
+    either(bent, r.deflection_m.norm() * 1e6);
+    either(bent && r.wall, r.form_error_m * 1e6);
+    either(bent, r.floor_error_m * 1e6);
+    either(limit, r.exact ? 1.0 : 0.0);
+    either(bent, r.contact ? 1.0 : 0.0);
+    either(r.has_offset, r.steady_offset_m * 1e6);
   }
-  table.add_cells(cells);
+  row.end_row();
 }
 
 // summary.json's robot_along_path: the worst lines with their advice, the
@@ -264,32 +288,48 @@ nlohmann::json robot_summary(const io::RobotPathSetup& setup, const toolpath::Ro
   return out;
 }
 
-io::CsvTable move_table(const toolpath::ProgramAnalysis& analysis) {
-  io::CsvTable table({"line", "move", "tool", "motion", "length_mm", "time_s", "feed_mm_min",
-                      "spindle_rpm", "samples", "engaged_samples", "removed_mm3", "max_ap_mm",
-                      "max_ae_mm", "max_engagement_deg", "max_force_N", "max_torque_Nm",
-                      "max_power_W", "tool_described"});
-  for (const toolpath::MoveTotals& m : analysis.moves) {
-    table.add_cells({static_cast<double>(m.line), static_cast<double>(m.move),
-                     static_cast<double>(m.tool), std::string(motion_name(m.kind)),
-                     m.length_m * 1e3, m.time_s, m.feed_m_s * 6e4, m.spindle_rad_s * kRpmPerRadS,
-                     static_cast<double>(m.samples), static_cast<double>(m.engaged_samples),
-                     m.removed_m3 * 1e9, m.max_axial_depth_m * 1e3, m.max_radial_width_m * 1e3,
-                     m.max_engaged_rad * kDegPerRad, m.max_force_n, m.max_torque_nm, m.max_power_w,
-                     m.tool_described ? 1.0 : 0.0});
-  }
-  return table;
+std::vector<std::string> move_columns() {
+  return {"line",        "move",
+          "tool",        "motion",
+          "length_mm",   "time_s",
+          "feed_mm_min", "spindle_rpm",
+          "samples",     "engaged_samples",
+          "removed_mm3", "max_ap_mm",
+          "max_ae_mm",   "max_engagement_deg",
+          "max_force_N", "max_torque_Nm",
+          "max_power_W", "tool_described",
+          "unsampled_mm"};
 }
 
-io::CsvTable stock_table(const toolpath::DexelStock& stock) {
-  io::CsvTable table({"x_mm", "y_mm", "z_mm"});
+template <class Row>
+void add_moves(Row& row, const toolpath::ProgramAnalysis& analysis) {
+  for (const toolpath::MoveTotals& m : analysis.moves) {
+    for (const double value :
+         {static_cast<double>(m.line), static_cast<double>(m.move), static_cast<double>(m.tool)})
+      row.number(value);
+    row.word(motion_name(m.kind));
+    for (const double value :
+         {m.length_m * 1e3, m.time_s, m.feed_m_s * 6e4, m.spindle_rad_s * kRpmPerRadS,
+          static_cast<double>(m.samples), static_cast<double>(m.engaged_samples),
+          m.removed_m3 * 1e9, m.max_axial_depth_m * 1e3, m.max_radial_width_m * 1e3,
+          m.max_engaged_rad * kDegPerRad, m.max_force_n, m.max_torque_nm, m.max_power_w,
+          m.tool_described ? 1.0 : 0.0, m.unsampled_length_m * 1e3})
+      row.number(value);
+    row.end_row();
+  }
+}
+
+template <class Row>
+void add_stock(Row& row, const toolpath::DexelStock& stock) {
   const std::vector<double> heights = stock.top_heights_m();
   const int nx = stock.counts()[0], ny = stock.counts()[1];
   for (int j = 0; j < ny; ++j)
-    for (int i = 0; i < nx; ++i)
-      table.add_row({stock.cell_centre_m(0, i) * 1e3, stock.cell_centre_m(1, j) * 1e3,
-                     heights[static_cast<std::size_t>(j) * nx + i] * 1e3});
-  return table;
+    for (int i = 0; i < nx; ++i) {
+      row.number(stock.cell_centre_m(0, i) * 1e3);
+      row.number(stock.cell_centre_m(1, j) * 1e3);
+      row.number(heights[static_cast<std::size_t>(j) * nx + i] * 1e3);
+      row.end_row();
+    }
 }
 
 nlohmann::json loads_json(const toolpath::MoveLoads& loads) {
@@ -589,7 +629,7 @@ CommandResult compute_toolpath(const io::Job& job, int threads,
   std::size_t preview_stride = 1, seen = 0;
   io::CsvTable samples = sample_table(), preview = sample_table();
   std::ofstream stream;
-  bool header_written = false;
+  std::optional<io::CsvText> streamed;  // samples.csv's rows, written block by block
   analysis::ProgramRunOptions options;
   options.threads = threads;
   options.optimize = optimize;
@@ -601,11 +641,21 @@ CommandResult compute_toolpath(const io::Job& job, int threads,
     dof = run.robot ? run.robot->model().dof() : 0;
     samples = sample_table(dof);
     preview = sample_table(dof);
-    double path_length_m = 0.0;
-    for (const toolpath::Move& move : run.program.moves)
-      path_length_m += toolpath::path_length_m(move);
+    // Only the path near the stock is sampled (program_analysis.hpp): the
+    // stretches beyond the largest cutter's reach of the box are not.
     const double spacing_m =
         job.toolpath->spacing_m > 0.0 ? job.toolpath->spacing_m : 0.5 * job.stock->resolution_m;
+    double reach_m = 0.0;
+    for (const auto& [number, tool] : *run.tooling)
+      reach_m = std::max(reach_m, toolpath::cutter_reach_m(toolpath::cutter_shape(tool)));
+    const toolpath::StockBox box{job.stock->min_m, job.stock->max_m};
+    double path_length_m = 0.0;
+    for (const toolpath::Move& move : run.program.moves) {
+      const toolpath::MoveStretch near = toolpath::move_near_box(move, box, reach_m);
+      if (!near.empty())
+        path_length_m +=
+            toolpath::path_length_m(move) * (std::min(1.0, near.to_u) - std::max(0.0, near.from_u));
+    }
     const double expected_samples = path_length_m / std::max(spacing_m, 1e-6) +
                                     2.0 * static_cast<double>(run.program.moves.size());
     preview_stride = static_cast<std::size_t>(
@@ -614,23 +664,23 @@ CommandResult compute_toolpath(const io::Job& job, int threads,
       stream.open(samples_file, std::ios::binary | std::ios::trunc);
       if (!stream)
         throw Error("cannot write " + samples_file.string());
+      streamed.emplace(sample_columns(dof));
     }
   };
   options.on_samples = [&](std::span<const toolpath::PathSample> block,
                            std::span<const toolpath::RobotSample> robot) {
-    io::CsvTable chunk = sample_table(dof);
-    io::CsvTable& target = samples_file.empty() ? samples : chunk;
+    TableRow in_memory(samples), preview_row(preview);
     for (std::size_t i = 0; i < block.size(); ++i) {
       const toolpath::RobotSample* r = robot.empty() ? nullptr : &robot[i];
-      add_sample(target, block[i], r);
+      if (streamed)
+        add_sample(*streamed, block[i], r);
+      else
+        add_sample(in_memory, block[i], r);
       if (seen++ % preview_stride == 0)
-        add_sample(preview, block[i], r);
+        add_sample(preview_row, block[i], r);
     }
-    if (!samples_file.empty()) {
-      std::string text = chunk.to_string();
-      if (header_written)
-        text.erase(0, text.find('\n') + 1);
-      header_written = true;
+    if (streamed) {
+      const std::string text = streamed->take();
       stream.write(text.data(), static_cast<std::streamsize>(text.size()));
       if (!stream)
         throw Error("cannot write " + samples_file.string());
@@ -667,6 +717,8 @@ CommandResult compute_toolpath(const io::Job& job, int threads,
       {"cutting_time_s", analysis.cutting_time_s},
       {"air_time_s", analysis.air_time_s},
       {"dwell_time_s", analysis.dwell_time_s},
+      {"unsampled_length_mm", analysis.unsampled_length_m * 1e3},
+      {"unsampled_time_s", analysis.unsampled_time_s},
       {"cycle_time_s", cycle_time_s},
       {"volume_removed_mm3", analysis.volume_removed_m3 * 1e9},
       {"max_force_N", analysis.max_force_n},
@@ -725,8 +777,23 @@ CommandResult compute_toolpath(const io::Job& job, int threads,
   else
     result.streamed.emplace_back("samples.csv", samples_file);
   result.tables.emplace_back("samples_preview", std::move(preview));
-  result.tables.emplace_back("moves", move_table(analysis));
-  result.tables.emplace_back("stock", stock_table(*run.stock));
+  // A long program's moves and a fine stock are millions of cells: the
+  // command writes them as text (a tenth of the memory); library callers
+  // get tables.
+  if (samples_file.empty()) {
+    io::CsvTable moves(move_columns()), stock({"x_mm", "y_mm", "z_mm"});
+    TableRow move_row(moves), stock_row(stock);
+    add_moves(move_row, analysis);
+    add_stock(stock_row, *run.stock);
+    result.tables.emplace_back("moves", std::move(moves));
+    result.tables.emplace_back("stock", std::move(stock));
+  } else if (job.output.csv) {
+    io::CsvText moves(move_columns()), stock({"x_mm", "y_mm", "z_mm"});
+    add_moves(moves, analysis);
+    add_stock(stock, *run.stock);
+    result.texts.emplace_back("moves.csv", moves.take());
+    result.texts.emplace_back("stock.csv", stock.take());
+  }
   result.summary = std::move(summary);
   std::string warnings_text;
   for (const auto& warning : analysis.warnings)
@@ -742,6 +809,12 @@ CommandResult compute_toolpath(const io::Job& job, int threads,
       analysis.volume_removed_m3 * 1e9, analysis.max_force_n, analysis.max_force_line,
       analysis.max_torque_nm, analysis.max_torque_line, analysis.max_power_w,
       analysis.max_power_line, warnings_text);
+  // Retracts and approaches leave some path away from the stock in most
+  // programs (summary.json has it); the message says so when it is long.
+  if (analysis.unsampled_length_m > 1.0)
+    result.message +=
+        fmt::format("  {:.1f} m of path away from the stock ({:.1f} s): timed, not sampled\n",
+                    analysis.unsampled_length_m, analysis.unsampled_time_s);
   result.message += robot_text;
   return result;
 }

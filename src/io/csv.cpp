@@ -1,5 +1,6 @@
 #include "robomill/io/csv.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -93,6 +94,61 @@ std::string CsvTable::to_string() const {
     text += '\n';
   }
   return text;
+}
+
+CsvText::CsvText(std::vector<std::string> columns, bool header) : columns_(std::move(columns)) {
+  if (columns_.empty())
+    throw std::invalid_argument("a CSV table needs at least one column");
+  if (!header)
+    return;
+  for (std::size_t c = 0; c < columns_.size(); ++c) {
+    if (c)
+      text_ += ',';
+    text_ += columns_[c];
+  }
+  text_ += '\n';
+}
+
+void CsvText::separate() {
+  if (cell_ >= columns_.size())
+    throw std::invalid_argument("CSV row has more than " + std::to_string(columns_.size()) +
+                                " values");
+  if (cell_)
+    text_ += ',';
+  ++cell_;
+}
+
+void CsvText::number(double value) {
+  if (!std::isfinite(value)) {
+    throw NumericalError("non-finite value in column '" +
+                         columns_[std::min(cell_, columns_.size() - 1)] + "' (row " +
+                         std::to_string(rows_ + 1) + "); refusing to write it");
+  }
+  separate();
+  if (value == 0.0)
+    value = 0.0;  // no "-0"
+  char buffer[64];
+  const auto result =
+      std::to_chars(buffer, buffer + sizeof buffer, value, std::chars_format::general, 12);
+  text_.append(buffer, result.ptr);
+}
+
+void CsvText::word(std::string_view text) {
+  if (text.find_first_of(",\"\n\r") != std::string_view::npos)
+    throw std::invalid_argument("CSV text cell must not contain separators: '" + std::string(text) +
+                                "'");
+  separate();
+  text_ += text;
+}
+
+void CsvText::end_row() {
+  if (cell_ != columns_.size()) {
+    throw std::invalid_argument("CSV row has " + std::to_string(cell_) + " values for " +
+                                std::to_string(columns_.size()) + " columns");
+  }
+  text_ += '\n';
+  cell_ = 0;
+  ++rows_;
 }
 
 CsvTable parse_csv(const std::string& text, const std::string& source_name) {

@@ -18,6 +18,12 @@ namespace robomill::report::detail {
 class Table {
  public:
   static std::optional<Table> parse(std::string_view text);
+  /// Only the `rows` rows with the largest finite numbers in `column` (the
+  /// first of equal ones), in the text's order: what a table of the largest
+  /// needs of a CSV too long to hold whole (a long program's moves.csv).
+  /// Without the column, the whole table.
+  static std::optional<Table> parse_largest(std::string_view text, const std::string& column,
+                                            std::size_t rows);
 
   bool has(const std::string& column) const;
   const std::vector<std::string>& columns() const { return names_; }
@@ -99,6 +105,9 @@ struct Outputs {
   std::string command;
   /// A CSV output parsed, or nullopt (with a note) when absent or malformed.
   std::optional<Table> table(const std::string& name, Content& content, bool required = true) const;
+  /// The same, with only the `rows` rows largest in `column` (Table::parse_largest).
+  std::optional<Table> largest_rows(const std::string& name, const std::string& column,
+                                    std::size_t rows, Content& content) const;
 };
 
 /// The figures and tables of `outputs.command` (figures.cpp).

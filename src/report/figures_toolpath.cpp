@@ -577,7 +577,9 @@ void toolpath_figures(const Outputs& o, Content& c) {
   toolpath_robot_figures(s ? &*s : nullptr, o.summary, c);
   if (const auto t = o.table("stock.csv", c))
     stock_figures(*t, o.summary, c);
-  if (const auto m = o.table("moves.csv", c))
+  // Only the rows the table shows: a long program's moves.csv is larger
+  // than the rest of the report's data together.
+  if (const auto m = o.largest_rows("moves.csv", "max_force_N", kWorstMoves, c))
     worst_moves_table(*m, c);
   list_table(o.summary, "warnings", "Warnings of the analysis (summary.json)", "warning", true, c);
   if (o.summary.contains("notes") && o.summary["notes"].is_array() && !o.summary["notes"].empty())

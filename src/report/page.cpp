@@ -93,6 +93,68 @@ std::optional<Table> Table::parse(std::string_view text) {
   return table;
 }
 
+std::optional<Table> Table::parse_largest(std::string_view text, const std::string& column,
+                                          std::size_t rows) {
+  Table table;
+  std::size_t key = 0, row = 0;
+  bool header = true;
+  // The kept rows: (value, row), a min-heap on the value (the later row
+  // first among equal ones), and their cells.
+  std::vector<std::pair<double, std::size_t>> heap;
+  std::map<std::size_t, std::vector<std::string>> kept;
+  const auto smaller = [](const std::pair<double, std::size_t>& a,
+                          const std::pair<double, std::size_t>& b) {
+    return a.first > b.first || (a.first == b.first && a.second < b.second);
+  };
+  std::size_t start = 0;
+  while (start < text.size()) {
+    std::size_t end = text.find('\n', start);
+    if (end == std::string_view::npos)
+      end = text.size();
+    const std::string_view line = text.substr(start, end - start);
+    start = end + 1;
+    if (line.empty() || line == "\r")
+      continue;
+    if (header && line.front() == '#')
+      continue;
+    std::vector<std::string> cells = split_line(line);
+    if (header) {
+      table.names_ = std::move(cells);
+      const auto it = std::find(table.names_.begin(), table.names_.end(), column);
+      if (it == table.names_.end())
+        return parse(text);
+      key = static_cast<std::size_t>(it - table.names_.begin());
+      table.cells_.resize(table.names_.size());
+      header = false;
+      continue;
+    }
+    if (cells.size() != table.names_.size())
+      return std::nullopt;
+    const double value = parse_number(cells[key]);
+    const std::size_t index = row++;
+    if (!std::isfinite(value) || rows == 0)
+      continue;
+    if (heap.size() == rows) {
+      if (!(value > heap.front().first))
+        continue;
+      std::pop_heap(heap.begin(), heap.end(), smaller);
+      kept.erase(heap.back().second);
+      heap.pop_back();
+    }
+    heap.emplace_back(value, index);
+    std::push_heap(heap.begin(), heap.end(), smaller);
+    kept.emplace(index, std::move(cells));
+  }
+  if (table.names_.empty())
+    return std::nullopt;
+  for (auto& [index, cells] : kept) {
+    for (std::size_t c = 0; c < cells.size(); ++c)
+      table.cells_[c].push_back(std::move(cells[c]));
+    ++table.rows_;
+  }
+  return table;
+}
+
 bool Table::has(const std::string& column) const {
   return std::find(names_.begin(), names_.end(), column) != names_.end();
 }
@@ -379,6 +441,19 @@ std::optional<Table> Outputs::table(const std::string& name, Content& content,
     return std::nullopt;
   }
   std::optional<Table> parsed = Table::parse(it->second);
+  if (!parsed)
+    content.notes.push_back(name + " could not be read as a CSV table: its figures are left out.");
+  return parsed;
+}
+
+std::optional<Table> Outputs::largest_rows(const std::string& name, const std::string& column,
+                                           std::size_t rows, Content& content) const {
+  const auto it = files.find(name);
+  if (it == files.end()) {
+    content.notes.push_back(name + " is not in the output folder: its figures are left out.");
+    return std::nullopt;
+  }
+  std::optional<Table> parsed = Table::parse_largest(it->second, column, rows);
   if (!parsed)
     content.notes.push_back(name + " could not be read as a CSV table: its figures are left out.");
   return parsed;

@@ -268,9 +268,18 @@ PathCorrections::PathCorrections(std::size_t moves, CompensationSettings setting
 }
 
 void PathCorrections::add(const PathSample& sample, const RobotSample& robot) {
-  if (sample.move < samples_.size())
-    samples_[sample.move].push_back(
-        sample_correction(sample, robot, settings_).value_or(Eigen::Vector3d::Zero()));
+  if (sample.move >= samples_.size())
+    return;
+  std::vector<Eigen::Vector3d>& c = samples_[sample.move];
+  if (c.size() < sample.step)  // the air steps before it
+    c.resize(sample.step, Eigen::Vector3d::Zero());
+  c.push_back(sample_correction(sample, robot, settings_).value_or(Eigen::Vector3d::Zero()));
+}
+
+void PathCorrections::complete(const std::vector<MoveTotals>& moves) {
+  for (std::size_t m = 0; m < std::min(moves.size(), samples_.size()); ++m)
+    if (moves[m].steps > 0 && samples_[m].size() < moves[m].steps + 1)
+      samples_[m].resize(moves[m].steps + 1, Eigen::Vector3d::Zero());
 }
 
 std::vector<LineCorrection> PathCorrections::corrections(const Program& program,

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <future>
 #include <numbers>
 #include <optional>
 
@@ -124,6 +125,49 @@ double default_sample_spacing_m(double feed_per_tooth_m, double resolution_m) no
   return std::max(3.0 * feed_per_tooth_m, 0.5 * resolution_m);
 }
 
+double cutter_reach_m(const CutterShape& shape) noexcept {
+  return std::hypot(shape.radius_m, shape.length_m);
+}
+
+MoveStretch move_near_box(const Move& move, const StockBox& box, double distance_m) noexcept {
+  const Eigen::Vector3d lo = box.min_m.array() - distance_m;
+  const Eigen::Vector3d hi = box.max_m.array() + distance_m;
+  MoveStretch stretch;
+  if (move.kind == MotionKind::arc) {
+    // Every point of the arc lies within its radius of the centre in the
+    // plane, and between the start's and the end's heights along the normal.
+    const Eigen::Vector3d from_centre = move.start_m - move.centre_m;
+    const double radius = (from_centre - from_centre.dot(move.normal) * move.normal).norm();
+    const Eigen::Vector3d plane_centre = move.centre_m + from_centre.dot(move.normal) * move.normal;
+    const Eigen::Vector3d rise = (move.end_m - move.start_m).dot(move.normal) * move.normal;
+    const Eigen::Vector3d a = plane_centre.cwiseMin(plane_centre + rise).array() - radius;
+    const Eigen::Vector3d b = plane_centre.cwiseMax(plane_centre + rise).array() + radius;
+    if ((a.array() > hi.array()).any() || (b.array() < lo.array()).any())
+      stretch.from_u = 2.0, stretch.to_u = -1.0;
+    return stretch;
+  }
+  // A straight move (a dwell stays at its start): clipped slab by slab.
+  const Eigen::Vector3d d = move.kind == MotionKind::dwell
+                                ? Eigen::Vector3d::Zero()
+                                : Eigen::Vector3d(move.end_m - move.start_m);
+  for (int a = 0; a < 3; ++a) {
+    const double s = move.start_m[a];
+    if (d[a] == 0.0) {
+      if (s < lo[a] || s > hi[a])
+        return {2.0, -1.0};
+      continue;
+    }
+    double t0 = (lo[a] - s) / d[a], t1 = (hi[a] - s) / d[a];
+    if (t0 > t1)
+      std::swap(t0, t1);
+    stretch.from_u = std::max(stretch.from_u, t0);
+    stretch.to_u = std::min(stretch.to_u, t1);
+  }
+  if (stretch.empty())
+    return {2.0, -1.0};
+  return stretch;
+}
+
 ProgramAnalysis analyse_program(const Program& program, const Tooling& tooling,
                                 const cutting::CuttingLaw& law, DexelStock& stock,
                                 const ProgramAnalysisSettings& settings, const SampleSink& sink,
@@ -152,16 +196,32 @@ ProgramAnalysis analyse_program(const Program& program, const Tooling& tooling,
   ProgramAnalysis result;
   Warnings warnings;
   const double volume_before = stock.volume_m3();
-  result.moves.reserve(program.moves.size());
+  // Every move's totals exist from the start: the worker below fills in the
+  // maxima of a block's moves while this thread appends to later ones.
+  result.moves.resize(program.moves.size());
 
-  std::vector<PathSample> block;
-  std::vector<SampleGeometry> geometry;
-  block.reserve(settings.block_samples);
-  geometry.reserve(settings.block_samples);
+  // Two blocks: this thread fills one with samples and their geometry (the
+  // engagement on the stock and the removal, which depend on every sample
+  // before) while a worker computes the other's forces (each sample
+  // independent once its engagement is known, in parallel), its per-move
+  // maxima and hands it to the sink, in program order. The results are those
+  // of doing it all in turn; only the sink runs on the worker's thread.
+  struct Block {
+    std::vector<PathSample> samples;
+    std::vector<SampleGeometry> geometry;
+  };
+  Block blocks[2];
+  for (Block& b : blocks) {
+    b.samples.reserve(settings.block_samples);
+    b.geometry.reserve(settings.block_samples);
+  }
+  Block* filling = &blocks[0];
+  std::vector<PathSample>* block_samples = &filling->samples;
+  std::vector<SampleGeometry>* block_geometry = &filling->geometry;
 
-  // Forces of a block in parallel (each sample is independent once its
-  // engagement is known), then the per-move maxima in program order.
-  auto flush = [&] {
+  auto finish = [&](Block& full) {
+    std::vector<PathSample>& block = full.samples;
+    std::vector<SampleGeometry>& geometry = full.geometry;
     core::parallel_for(block.size(), settings.threads, [&](std::size_t i) {
       PathSample& sample = block[i];
       if (sample.analysed && !geometry[i].engagement.empty() && sample.kind != MotionKind::rapid) {
@@ -193,232 +253,303 @@ ProgramAnalysis analyse_program(const Program& program, const Tooling& tooling,
     }
     if (sink && !block.empty())
       sink(std::span<const PathSample>(block.data(), block.size()));
-    result.samples += block.size();
     block.clear();
     geometry.clear();
   };
+  std::future<void> pending;  // the worker's block
+  auto wait_pending = [&] {
+    if (pending.valid())
+      pending.get();  // rethrows what the worker threw
+  };
+  auto flush = [&] {
+    wait_pending();  // the other block is free again
+    Block& full = *filling;
+    result.samples += full.samples.size();
+    if (settings.overlap_blocks)
+      pending = std::async(std::launch::async, [&finish, &full] { finish(full); });
+    else
+      finish(full);
+    filling = filling == &blocks[0] ? &blocks[1] : &blocks[0];
+    block_samples = &filling->samples;
+    block_geometry = &filling->geometry;
+  };
 
-  double time_s = 0.0;
-  std::optional<Eigen::Vector3d> last_tip, last_axis;  // where the cutter was last placed
-  bool approached = false;                             // a feed move was seen
-  for (std::size_t m = 0; m < program.moves.size(); ++m) {
-    const Move& move = program.moves[m];
-    MoveTotals& totals = result.moves.emplace_back();
-    totals.move = m;
-    totals.line = move.line;
-    totals.tool = move.tool;
-    totals.kind = move.kind;
-    totals.length_m = path_length_m(move);
-    totals.time_s = duration_s(move, settings.rapid_speed_m_s);
-    totals.feed_m_s = move.feed_m_s;
-    totals.spindle_rad_s = move.spindle_rad_s;
-    const double move_start_s = time_s;
-    time_s += totals.time_s;
-    switch (move.kind) {
-      case MotionKind::rapid:
-        result.air_time_s += totals.time_s;
-        break;
-      case MotionKind::dwell:
-        result.dwell_time_s += totals.time_s;
-        break;
-      default:
-        result.cutting_time_s += totals.time_s;
-    }
-    if (move.kind == MotionKind::dwell)
-      continue;
-
-    const Cutter* cutter = cutter_of(move.tool);
-    totals.tool_described = cutter != nullptr;
-    if (!cutter) {
-      warnings.add(move.line, fmt::format("tool T{} is not described in toolpath.tools: its moves "
-                                          "are listed, not analysed, and remove no material",
-                                          move.tool));
-      last_tip.reset();
-      continue;
-    }
-    const tool::Tool& tool = *cutter->tool;
-    const bool feed_move = move.kind != MotionKind::rapid;
-    double spindle_rad_s = std::abs(move.spindle_rad_s);
-    if (spindle_rad_s == 0.0)
-      spindle_rad_s = settings.default_spindle_rad_s;
-    if (move.spindle_rad_s < 0.0)
-      warnings.add(move.line,
-                   "counter-clockwise spindle (M4/CCW): forces computed for clockwise rotation");
-    const double revolutions_per_s = spindle_rad_s / kTwoPi;
-    const double feed_per_tooth_m =
-        spindle_rad_s > 0.0 ? move.feed_m_s / (tool.teeth() * revolutions_per_s) : 0.0;
-    const double move_spacing_m =
-        m < settings.move_spacing_m.size() ? settings.move_spacing_m[m] : 0.0;
-    const double spacing_m = move_spacing_m > 0.0 ? move_spacing_m
-                             : settings.sample_spacing_m > 0.0
-                                 ? settings.sample_spacing_m
-                                 : default_sample_spacing_m(feed_per_tooth_m, stock.resolution_m());
-    // Until the first feed move the cutter's position is not known: a program
-    // starts wherever the machine happened to be (the readers start at the
-    // program zero, as LinuxCNC does), and a post's first rapids (G0 X Y, then
-    // G43 Z) move one axis at a time from there. The approach rapids are taken
-    // as the safe moves CAM made them: they are listed, not sampled, and the
-    // cutter first appears where the first feed move starts.
-    if (!approached && move.kind == MotionKind::rapid)
-      continue;
-    approached = true;
-    totals.spacing_m = spacing_m;
-    const std::size_t steps =
-        m < settings.move_steps.size() && settings.move_steps[m] > 0
-            ? settings.move_steps[m]
-            : std::max<std::size_t>(
-                  1, static_cast<std::size_t>(std::ceil(totals.length_m / spacing_m - 1e-9)));
-    totals.steps = steps;
-    const double step_m = totals.length_m / static_cast<double>(steps);
-    const double inset_m = surface_inset_m(cutter->grid, cutter->shape, stock.resolution_m());
-    const double lookahead_m =
-        std::max(0.5 * step_m, std::sqrt(4.0 * cutter->shape.radius_m * inset_m) - step_m);
-
-    for (std::size_t k = 0; k <= steps; ++k) {
-      if (block.size() >= settings.block_samples) {
-        flush();
-        if (progress)
-          progress(static_cast<double>(m) / static_cast<double>(program.moves.size()));
+  // On an error, the worker's block (earlier in the program) is finished
+  // first, and its error, if any, is the one reported.
+  try {
+    double time_s = 0.0;
+    std::optional<Eigen::Vector3d> last_tip, last_axis;  // where the cutter was last placed
+    bool approached = false;                             // a feed move was seen
+    for (std::size_t m = 0; m < program.moves.size(); ++m) {
+      const Move& move = program.moves[m];
+      MoveTotals& totals = result.moves[m];
+      totals.move = m;
+      totals.line = move.line;
+      totals.tool = move.tool;
+      totals.kind = move.kind;
+      totals.length_m = path_length_m(move);
+      totals.time_s = duration_s(move, settings.rapid_speed_m_s);
+      totals.feed_m_s = move.feed_m_s;
+      totals.spindle_rad_s = move.spindle_rad_s;
+      if (totals.length_m > kImplausibleMoveM)
+        warnings.add(move.line,
+                     fmt::format("a move {:.6g} km long: no machine travels that far in one block "
+                                 "(a mistyped coordinate or unit?); its stretch away from the "
+                                 "stock is timed, not sampled",
+                                 totals.length_m * 1e-3));
+      const double move_start_s = time_s;
+      time_s += totals.time_s;
+      switch (move.kind) {
+        case MotionKind::rapid:
+          result.air_time_s += totals.time_s;
+          break;
+        case MotionKind::dwell:
+          result.dwell_time_s += totals.time_s;
+          break;
+        default:
+          result.cutting_time_s += totals.time_s;
       }
-      const double u = static_cast<double>(k) / static_cast<double>(steps);
-      PathSample& sample = block.emplace_back();
-      SampleGeometry& geo = geometry.emplace_back();
-      sample.move = m;
-      sample.move_fraction = u;
-      sample.line = move.line;
-      sample.tool = move.tool;
-      sample.kind = move.kind;
-      sample.t_s = move_start_s + u * totals.time_s;
-      sample.tip_m = position_at(move, u);
-      sample.axis = axis_at(move, u);
-      sample.feed_direction = tangent_at(move, u);
-      sample.oriented = move.oriented;
-      if (move.oriented)
-        sample.tool_x = tool_x_at(move, u);
-      sample.feed_m_s = move.feed_m_s;
-      sample.spindle_rad_s = spindle_rad_s;
+      if (move.kind == MotionKind::dwell)
+        continue;
 
-      bool plunge = false;
-      geo.tool_to_workpiece = local_frame(sample.axis, sample.feed_direction, plunge);
-      geo.cutter = cutter;
-      sample.plunge = plunge && totals.length_m > 0.0;
-      const double along_axis = sample.feed_direction.dot(sample.axis);
-      sample.feed_per_tooth_m =
-          feed_per_tooth_m * std::sqrt(std::max(0.0, 1.0 - along_axis * along_axis));
-      geo.axial_feed_per_tooth_m = feed_per_tooth_m * along_axis;
+      const Cutter* cutter = cutter_of(move.tool);
+      totals.tool_described = cutter != nullptr;
+      if (!cutter) {
+        warnings.add(move.line,
+                     fmt::format("tool T{} is not described in toolpath.tools: its moves "
+                                 "are listed, not analysed, and remove no material",
+                                 move.tool));
+        last_tip.reset();
+        continue;
+      }
+      const tool::Tool& tool = *cutter->tool;
+      const bool feed_move = move.kind != MotionKind::rapid;
+      double spindle_rad_s = std::abs(move.spindle_rad_s);
+      if (spindle_rad_s == 0.0)
+        spindle_rad_s = settings.default_spindle_rad_s;
+      if (move.spindle_rad_s < 0.0)
+        warnings.add(move.line,
+                     "counter-clockwise spindle (M4/CCW): forces computed for clockwise rotation");
+      const double revolutions_per_s = spindle_rad_s / kTwoPi;
+      const double feed_per_tooth_m =
+          spindle_rad_s > 0.0 ? move.feed_m_s / (tool.teeth() * revolutions_per_s) : 0.0;
+      const double move_spacing_m =
+          m < settings.move_spacing_m.size() ? settings.move_spacing_m[m] : 0.0;
+      const double spacing_m =
+          move_spacing_m > 0.0 ? move_spacing_m
+          : settings.sample_spacing_m > 0.0
+              ? settings.sample_spacing_m
+              : default_sample_spacing_m(feed_per_tooth_m, stock.resolution_m());
+      // Until the first feed move the cutter's position is not known: a program
+      // starts wherever the machine happened to be (the readers start at the
+      // program zero, as LinuxCNC does), and a post's first rapids (G0 X Y, then
+      // G43 Z) move one axis at a time from there. The approach rapids are taken
+      // as the safe moves CAM made them: they are listed, not sampled, and the
+      // cutter first appears where the first feed move starts.
+      if (!approached && move.kind == MotionKind::rapid)
+        continue;
+      approached = true;
+      totals.spacing_m = spacing_m;
+      const std::size_t steps =
+          m < settings.move_steps.size() && settings.move_steps[m] > 0
+              ? settings.move_steps[m]
+              : std::max<std::size_t>(
+                    1, static_cast<std::size_t>(std::ceil(totals.length_m / spacing_m - 1e-9)));
+      totals.steps = steps;
+      const double step_m = totals.length_m / static_cast<double>(steps);
+      const double inset_m = surface_inset_m(cutter->grid, cutter->shape, stock.resolution_m());
+      const double lookahead_m =
+          std::max(0.5 * step_m, std::sqrt(4.0 * cutter->shape.radius_m * inset_m) - step_m);
 
-      // The engagement on the stock as the samples before left it; then this
-      // sample's sweep is removed (from where the cutter was last placed).
-      //
-      // The engagement is looked up a little ahead along the lateral feed.
-      // The sides of a slot (φ near 0 and π) border material only a sliver
-      // thick beyond the previous sample's envelope: at φ = 0, a probe s
-      // ahead of a sample one step f after the previous clears that envelope
-      // by (s + f)² / (2R), which must exceed the engagement's surface inset
-      // (cutter_engagement.hpp) or the sides read as air. s = √(4 R inset) − f
-      // (at least f / 2) clears it by twice the inset. Walls along the feed (a
-      // side cut's entry), the floor and ap are unchanged by a shift along x;
-      // a wall across the feed is seen s early (a resampling error, reported
-      // in docs/toolpath.md). A plunge has no lateral direction: no shift.
-      // The probe follows the path itself (an arc's probe stays on the arc, so
-      // the wall an earlier turn of a helix left is not crossed), straight on
-      // past the move's end; its engagement is taken in its own frame.
-      Eigen::Vector3d probe_m = sample.tip_m;
-      Eigen::Vector3d probe_axis = sample.axis, probe_feed = sample.feed_direction;
-      if (!plunge && totals.length_m > 0.0) {
-        const double ahead_u = u + lookahead_m / totals.length_m;
-        if (ahead_u <= 1.0) {
-          probe_m = position_at(move, ahead_u);
-          probe_axis = axis_at(move, ahead_u);
-          probe_feed = tangent_at(move, ahead_u);
-        } else {
-          // Into the next move where the cut goes on (a feed move that starts
-          // here), else the move's end.
-          const Move* next = m + 1 < program.moves.size() ? &program.moves[m + 1] : nullptr;
-          const double beyond_m = (ahead_u - 1.0) * totals.length_m;
-          const double next_length_m = next ? toolpath::path_length_m(*next) : 0.0;
-          if (next && next->kind != MotionKind::rapid && next->kind != MotionKind::dwell &&
-              next_length_m > 0.0 && (next->start_m - move.end_m).norm() < 1e-9) {
-            const double next_u = std::min(1.0, beyond_m / next_length_m);
-            probe_m = position_at(*next, next_u);
-            probe_axis = axis_at(*next, next_u);
-            probe_feed = tangent_at(*next, next_u);
+      // The steps near the stock. A step whose tip is farther from the box
+      // than the cutter reaches, plus the probe's lookahead, a step and a
+      // cell, neither engages material (its probe is beyond the cutter's reach
+      // too) nor removes any (nor does the sweep to it from a neighbour, which
+      // is a step away): it is air, and left out. Along a straight move the
+      // near steps are consecutive, [first, last].
+      const MoveStretch near = settings.sample_air
+                                   ? MoveStretch{}
+                                   : move_near_box(move, stock.box(),
+                                                   cutter_reach_m(cutter->shape) + lookahead_m +
+                                                       step_m + stock.resolution_m());
+      const double steps_d = static_cast<double>(steps);
+      std::size_t first = 1, last = 0;  // none
+      if (!near.empty()) {
+        first = static_cast<std::size_t>(std::max(0.0, std::ceil(near.from_u * steps_d - 1e-6)));
+        last = static_cast<std::size_t>(
+            std::min(steps_d, std::max(0.0, std::floor(near.to_u * steps_d + 1e-6))));
+      }
+      const std::size_t sampled_steps = first <= last ? last - first : 0;
+      totals.unsampled_length_m =
+          first <= last ? totals.length_m * static_cast<double>(steps - sampled_steps) / steps_d
+                        : totals.length_m;
+      result.unsampled_length_m += totals.unsampled_length_m;
+      if (totals.length_m > 0.0)
+        result.unsampled_time_s += totals.time_s * totals.unsampled_length_m / totals.length_m;
+      // The sweep into the first near step starts where the air step before
+      // it would have left the cutter.
+      if (first > 0 && first <= last) {
+        const double u = static_cast<double>(first - 1) / steps_d;
+        last_tip = position_at(move, u);
+        last_axis = axis_at(move, u);
+      }
+
+      for (std::size_t k = first; k <= last; ++k) {
+        if (block_samples->size() >= settings.block_samples) {
+          flush();
+          if (progress)
+            progress(static_cast<double>(m) / static_cast<double>(program.moves.size()));
+        }
+        const double u = static_cast<double>(k) / static_cast<double>(steps);
+        PathSample& sample = block_samples->emplace_back();
+        SampleGeometry& geo = block_geometry->emplace_back();
+        sample.move = m;
+        sample.move_fraction = u;
+        sample.step = k;
+        sample.line = move.line;
+        sample.tool = move.tool;
+        sample.kind = move.kind;
+        sample.t_s = move_start_s + u * totals.time_s;
+        sample.tip_m = position_at(move, u);
+        sample.axis = axis_at(move, u);
+        sample.feed_direction = tangent_at(move, u);
+        sample.oriented = move.oriented;
+        if (move.oriented)
+          sample.tool_x = tool_x_at(move, u);
+        sample.feed_m_s = move.feed_m_s;
+        sample.spindle_rad_s = spindle_rad_s;
+
+        bool plunge = false;
+        geo.tool_to_workpiece = local_frame(sample.axis, sample.feed_direction, plunge);
+        geo.cutter = cutter;
+        sample.plunge = plunge && totals.length_m > 0.0;
+        const double along_axis = sample.feed_direction.dot(sample.axis);
+        sample.feed_per_tooth_m =
+            feed_per_tooth_m * std::sqrt(std::max(0.0, 1.0 - along_axis * along_axis));
+        geo.axial_feed_per_tooth_m = feed_per_tooth_m * along_axis;
+
+        // The engagement on the stock as the samples before left it; then this
+        // sample's sweep is removed (from where the cutter was last placed).
+        //
+        // The engagement is looked up a little ahead along the lateral feed.
+        // The sides of a slot (φ near 0 and π) border material only a sliver
+        // thick beyond the previous sample's envelope: at φ = 0, a probe s
+        // ahead of a sample one step f after the previous clears that envelope
+        // by (s + f)² / (2R), which must exceed the engagement's surface inset
+        // (cutter_engagement.hpp) or the sides read as air. s = √(4 R inset) − f
+        // (at least f / 2) clears it by twice the inset. Walls along the feed (a
+        // side cut's entry), the floor and ap are unchanged by a shift along x;
+        // a wall across the feed is seen s early (a resampling error, reported
+        // in docs/toolpath.md). A plunge has no lateral direction: no shift.
+        // The probe follows the path itself (an arc's probe stays on the arc, so
+        // the wall an earlier turn of a helix left is not crossed), straight on
+        // past the move's end; its engagement is taken in its own frame.
+        Eigen::Vector3d probe_m = sample.tip_m;
+        Eigen::Vector3d probe_axis = sample.axis, probe_feed = sample.feed_direction;
+        if (!plunge && totals.length_m > 0.0) {
+          const double ahead_u = u + lookahead_m / totals.length_m;
+          if (ahead_u <= 1.0) {
+            probe_m = position_at(move, ahead_u);
+            probe_axis = axis_at(move, ahead_u);
+            probe_feed = tangent_at(move, ahead_u);
           } else {
-            probe_m = move.end_m;
-            probe_axis = axis_at(move, 1.0);
-            probe_feed = tangent_at(move, 1.0);
+            // Into the next move where the cut goes on (a feed move that starts
+            // here), else the move's end.
+            const Move* next = m + 1 < program.moves.size() ? &program.moves[m + 1] : nullptr;
+            const double beyond_m = (ahead_u - 1.0) * totals.length_m;
+            const double next_length_m = next ? toolpath::path_length_m(*next) : 0.0;
+            if (next && next->kind != MotionKind::rapid && next->kind != MotionKind::dwell &&
+                next_length_m > 0.0 && (next->start_m - move.end_m).norm() < 1e-9) {
+              const double next_u = std::min(1.0, beyond_m / next_length_m);
+              probe_m = position_at(*next, next_u);
+              probe_axis = axis_at(*next, next_u);
+              probe_feed = tangent_at(*next, next_u);
+            } else {
+              probe_m = move.end_m;
+              probe_axis = axis_at(move, 1.0);
+              probe_feed = tangent_at(move, 1.0);
+            }
+          }
+          bool probe_plunge = false;
+          geo.tool_to_workpiece = local_frame(probe_axis, probe_feed, probe_plunge);
+          if (probe_plunge) {  // the path turns into the axis within s: stay put
+            probe_m = sample.tip_m;
+            probe_axis = sample.axis;
+            probe_feed = sample.feed_direction;
+            geo.tool_to_workpiece = local_frame(probe_axis, probe_feed, probe_plunge);
           }
         }
-        bool probe_plunge = false;
-        geo.tool_to_workpiece = local_frame(probe_axis, probe_feed, probe_plunge);
-        if (probe_plunge) {  // the path turns into the axis within s: stay put
-          probe_m = sample.tip_m;
-          probe_axis = sample.axis;
-          probe_feed = sample.feed_direction;
-          geo.tool_to_workpiece = local_frame(probe_axis, probe_feed, probe_plunge);
+        geo.engagement =
+            engagement_at(stock, cutter->shape, probe_m, probe_axis, probe_feed, cutter->grid);
+        if (last_tip)
+          stock.remove_sweep(cutter->shape, *last_tip, *last_axis, sample.tip_m, sample.axis);
+        else
+          stock.remove(cutter->shape, sample.tip_m, sample.axis);
+        last_tip = sample.tip_m;
+        last_axis = sample.axis;
+
+        const CutterEngagement& engagement = geo.engagement;
+        ++totals.samples;
+        if (engagement.empty())
+          continue;
+        ++totals.engaged_samples;
+        ++result.engaged_samples;
+        sample.axial_depth_m = engagement.axial_depth_m;
+        sample.radial_width_m = engagement.radial_width_m;
+        sample.engaged_rad = engagement.engaged_rad;
+        sample.entry_rad = engagement.entry_rad;
+        sample.exit_rad = engagement.exit_rad;
+        sample.section_m2 = engagement.section_m2;
+        for (const EngagementSlice& slice : engagement.slices) {
+          if (slice.engaged_rad() >= sample.engaged_rad - 1e-12)
+            sample.arcs = std::max(sample.arcs, slice.arc_count);
+          // Mean Σ h b over a tooth period: h db = fz sin φ sin κ dz / sin κ,
+          // integrated over each arc and averaged over 2π/N.
+          for (int a = 0; a < slice.arc_count; ++a)
+            sample.chip_area_m2 +=
+                tool.teeth() * sample.feed_per_tooth_m / kTwoPi *
+                (std::cos(slice.arcs[a].entry_rad) - std::cos(slice.arcs[a].exit_rad)) *
+                slice.thickness_m;
         }
-      }
-      geo.engagement =
-          engagement_at(stock, cutter->shape, probe_m, probe_axis, probe_feed, cutter->grid);
-      if (last_tip)
-        stock.remove_sweep(cutter->shape, *last_tip, *last_axis, sample.tip_m, sample.axis);
-      else
-        stock.remove(cutter->shape, sample.tip_m, sample.axis);
-      last_tip = sample.tip_m;
-      last_axis = sample.axis;
+        sample.chip_area_m2 = std::max(0.0, sample.chip_area_m2);
+        totals.max_axial_depth_m = std::max(totals.max_axial_depth_m, sample.axial_depth_m);
+        totals.max_radial_width_m = std::max(totals.max_radial_width_m, sample.radial_width_m);
+        totals.max_engaged_rad = std::max(totals.max_engaged_rad, sample.engaged_rad);
+        if (k > 0)
+          totals.removed_m3 += sample.section_m2 * step_m;
 
-      const CutterEngagement& engagement = geo.engagement;
-      ++totals.samples;
-      if (engagement.empty())
-        continue;
-      ++totals.engaged_samples;
-      ++result.engaged_samples;
-      sample.axial_depth_m = engagement.axial_depth_m;
-      sample.radial_width_m = engagement.radial_width_m;
-      sample.engaged_rad = engagement.engaged_rad;
-      sample.entry_rad = engagement.entry_rad;
-      sample.exit_rad = engagement.exit_rad;
-      sample.section_m2 = engagement.section_m2;
-      for (const EngagementSlice& slice : engagement.slices) {
-        if (slice.engaged_rad() >= sample.engaged_rad - 1e-12)
-          sample.arcs = std::max(sample.arcs, slice.arc_count);
-        // Mean Σ h b over a tooth period: h db = fz sin φ sin κ dz / sin κ,
-        // integrated over each arc and averaged over 2π/N.
-        for (int a = 0; a < slice.arc_count; ++a)
-          sample.chip_area_m2 +=
-              tool.teeth() * sample.feed_per_tooth_m / kTwoPi *
-              (std::cos(slice.arcs[a].entry_rad) - std::cos(slice.arcs[a].exit_rad)) *
-              slice.thickness_m;
+        if (!feed_move) {
+          warnings.add(move.line, "a rapid move cuts material (the program would crash the tool)");
+          continue;
+        }
+        if (spindle_rad_s == 0.0) {
+          throw InputError(settings.source_name, move.line,
+                           "a feed move cuts material with the spindle off and no spindle speed "
+                           "in the program; give S (M3) in the program or toolpath.spindle in "
+                           "the job");
+        }
+        sample.analysed = true;
+        if (sample.plunge && !cutter->shape.has_corner())
+          warnings.add(move.line,
+                       "a flat end mill plunges along its axis: the end teeth's cut is not "
+                       "modelled (side-edge forces only)");
+        else if (sample.plunge && cutter->shape.is_bull())
+          warnings.add(move.line,
+                       "a bull-nose end mill plunges along its axis: its corner's cut is "
+                       "modelled, the flat end's inside R - r is not");
       }
-      sample.chip_area_m2 = std::max(0.0, sample.chip_area_m2);
-      totals.max_axial_depth_m = std::max(totals.max_axial_depth_m, sample.axial_depth_m);
-      totals.max_radial_width_m = std::max(totals.max_radial_width_m, sample.radial_width_m);
-      totals.max_engaged_rad = std::max(totals.max_engaged_rad, sample.engaged_rad);
-      if (k > 0)
-        totals.removed_m3 += sample.section_m2 * step_m;
-
-      if (!feed_move) {
-        warnings.add(move.line, "a rapid move cuts material (the program would crash the tool)");
-        continue;
+      // Air at the move's end: the cutter is left where its last step would be.
+      if (last < steps || first > last) {
+        last_tip = position_at(move, 1.0);
+        last_axis = axis_at(move, 1.0);
       }
-      if (spindle_rad_s == 0.0) {
-        throw InputError(settings.source_name, move.line,
-                         "a feed move cuts material with the spindle off and no spindle speed "
-                         "in the program; give S (M3) in the program or toolpath.spindle in "
-                         "the job");
-      }
-      sample.analysed = true;
-      if (sample.plunge && !cutter->shape.has_corner())
-        warnings.add(move.line,
-                     "a flat end mill plunges along its axis: the end teeth's cut is not "
-                     "modelled (side-edge forces only)");
-      else if (sample.plunge && cutter->shape.is_bull())
-        warnings.add(move.line,
-                     "a bull-nose end mill plunges along its axis: its corner's cut is "
-                     "modelled, the flat end's inside R - r is not");
     }
+    flush();
+    wait_pending();
+  } catch (...) {
+    wait_pending();
+    throw;
   }
-  flush();
   if (progress)
     progress(1.0);
   result.volume_removed_m3 = std::max(0.0, volume_before - stock.volume_m3());

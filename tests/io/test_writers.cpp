@@ -52,6 +52,39 @@ TEST(CsvTable, RefusesNonFiniteValues) {
   EXPECT_THROW(table.add_row({1.0, 2.0}), std::invalid_argument);
 }
 
+// The streaming writer writes the bytes the table does, in pieces.
+TEST(CsvText, WritesWhatTheTableWritesRowByRow) {
+  const std::vector<double> values = {0.0, -0.0, -12.5, 1e-4, 123.456789012, 1.0 / 3.0, 6.02e23};
+  io::CsvTable table({"x", "motion", "y"});
+  io::CsvText text({"x", "motion", "y"});
+  std::string pieces;
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    const std::string word = i % 2 ? "arc" : "";
+    table.add_cells({values[i], word, values[values.size() - 1 - i]});
+    text.number(values[i]);
+    text.word(word);
+    text.number(values[values.size() - 1 - i]);
+    text.end_row();
+    if (i == 3)
+      pieces += text.take();  // the next rows follow without a header
+  }
+  pieces += text.take();
+  EXPECT_EQ(pieces, table.to_string());
+  EXPECT_EQ(text.rows(), values.size());
+  EXPECT_TRUE(io::CsvText({"a"}, false).text().empty());
+}
+
+TEST(CsvText, RefusesWhatTheTableRefuses) {
+  io::CsvText text({"a", "b"});
+  EXPECT_THROW(text.number(std::nan("")), NumericalError);
+  EXPECT_THROW(text.number(INFINITY), NumericalError);
+  EXPECT_THROW(text.word("x,y"), std::invalid_argument);
+  text.number(1.0);
+  EXPECT_THROW(text.end_row(), std::invalid_argument);  // one cell of two
+  text.number(2.0);
+  EXPECT_THROW(text.number(3.0), std::invalid_argument);  // a third
+}
+
 TEST(CsvReader, NamesTheLineOfABadCell) {
   try {
     io::parse_csv("# comment\nfeed,fx\n0.1,2\n0.2,x\n", "data.csv");

@@ -5,6 +5,8 @@
 
 #include <filesystem>
 #include <string>
+#include <string_view>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -43,6 +45,38 @@ class CsvTable {
  private:
   std::vector<std::string> columns_;
   std::vector<Cell> cells_;
+};
+
+/// A CSV table written row by row straight into text: the bytes
+/// CsvTable::to_string writes for the same cells (the same checks, 12
+/// significant digits, no "-0"), without keeping the cells. For tables too
+/// long to hold as cells (a program's samples and moves): take() the text
+/// written so far and go on.
+class CsvText {
+ public:
+  /// Writes the header row first unless `header` is false.
+  explicit CsvText(std::vector<std::string> columns, bool header = true);
+
+  /// The next cell of the row: a number (robomill::NumericalError if it is
+  /// not finite), a word (std::invalid_argument if it holds a separator), or
+  /// nothing.
+  void number(double value);
+  void word(std::string_view text);
+  void blank() { word({}); }
+  /// Ends the row; std::invalid_argument if it has another number of cells
+  /// than the header.
+  void end_row();
+
+  std::size_t rows() const noexcept { return rows_; }
+  const std::string& text() const noexcept { return text_; }
+  /// The text so far, leaving this empty (the next rows follow it).
+  std::string take() { return std::exchange(text_, std::string()); }
+
+ private:
+  void separate();
+  std::vector<std::string> columns_;
+  std::string text_;
+  std::size_t cell_ = 0, rows_ = 0;
 };
 
 /// Reads a numeric CSV with a header row. Blank lines and lines starting with

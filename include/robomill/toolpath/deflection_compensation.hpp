@@ -97,8 +97,13 @@ class PathCorrections {
   PathCorrections(std::size_t moves, CompensationSettings settings);
 
   /// Every sample of the analysis in program order (a move's samples at
-  /// u = k / steps, k = 0 … steps).
+  /// u = k / steps, k = 0 … steps). The steps the analysis left out as air
+  /// (PathSample::step) have no correction: zero.
   void add(const PathSample& sample, const RobotSample& robot);
+
+  /// After the run: every sampled move's corrections padded with zeros to
+  /// its steps + 1 (the air steps at its end, or all of a move in air).
+  void complete(const std::vector<MoveTotals>& moves);
 
   /// The lines to write: straight feed moves and arcs alone on their
   /// program line with a correction of at least `min_offset_m` somewhere;

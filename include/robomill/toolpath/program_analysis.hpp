@@ -8,6 +8,14 @@
 // Samples stream out in program order through a callback, in blocks, so the
 // memory this needs grows with the stock and the program's moves, never with
 // the number of samples.
+//
+// Air costs nothing: the stretches of a move beyond the cutter's reach of the
+// stock's box (move_near_box) are timed and measured but not sampled, so a
+// run's cost follows the length of path near the stock, not the program's
+// (a mistyped G1 X100000000 is 100 km of air, not 400 million samples). The
+// samples near the stock stay where a run that sampled everything puts them
+// (the same steps along the move); only the air samples, which remove and
+// engage nothing, are left out.
 
 #include <Eigen/Core>
 #include <cstddef>
@@ -50,9 +58,17 @@ struct ProgramAnalysisSettings {
   /// Spindle speed for moves whose program gave none (rad/s; KRL programs
   /// rarely do); 0: such a move in material is an error.
   double default_spindle_rad_s = 0.0;
-  int force_steps_per_tooth = 32;       ///< force samples per tooth period (peaks)
-  EngagementGrid grid;                  ///< slice_height 0: default_engagement_grid
-  int threads = 0;                      ///< force evaluation (0: all cores)
+  /// Sample the stretches away from the stock too (every step of every
+  /// move, as before air was left out): what leaving them out is checked against.
+  bool sample_air = false;
+  int force_steps_per_tooth = 32;  ///< force samples per tooth period (peaks)
+  EngagementGrid grid;             ///< slice_height 0: default_engagement_grid
+  int threads = 0;                 ///< force evaluation (0: all cores)
+  /// Compute a block's forces and hand it to the sink on a worker thread
+  /// while the next block's samples are placed on the stock (the same
+  /// results); false: all on the caller's thread (a sink that must run
+  /// there, such as one making MPI calls).
+  bool overlap_blocks = true;
   std::size_t block_samples = 4096;     ///< samples computed and handed out per block
   std::string source_name = "program";  ///< the program's name in errors
 };
@@ -61,7 +77,11 @@ struct ProgramAnalysisSettings {
 struct PathSample {
   std::size_t move = 0;        ///< index into Program::moves
   double move_fraction = 0.0;  ///< where along the move, 0 … 1
-  int line = 0;                ///< program line
+  /// Which step along the move: move_fraction = step / MoveTotals::steps. A
+  /// move's samples are consecutive steps; they start after 0 or end before
+  /// `steps` where the move begins or ends away from the stock (in air).
+  std::size_t step = 0;
+  int line = 0;  ///< program line
   int tool = 0;
   MotionKind kind = MotionKind::linear;
   double t_s = 0.0;  ///< program time at the sample
@@ -100,7 +120,13 @@ struct MoveTotals {
   double length_m = 0.0, time_s = 0.0;
   double feed_m_s = 0.0, spindle_rad_s = 0.0;
   double spacing_m = 0.0;  ///< sample spacing used along the move (0: not sampled)
-  std::size_t steps = 0;   ///< steps taken along it (samples − 1; 0: not sampled)
+  /// Steps along it (0: not sampled): step k at move fraction k / steps. A
+  /// move near the stock throughout has steps + 1 samples; fewer where part
+  /// of it is air.
+  std::size_t steps = 0;
+  /// The move's length away from the stock (beyond the cutter's reach of the
+  /// box): timed, not sampled.
+  double unsampled_length_m = 0.0;
   bool tool_described = true;
   int samples = 0, engaged_samples = 0;
   double removed_m3 = 0.0;  ///< section × feed integrated over the move
@@ -114,6 +140,8 @@ struct ProgramAnalysis {
   double cutting_time_s = 0.0;  ///< feed moves
   double air_time_s = 0.0;      ///< rapids
   double dwell_time_s = 0.0;
+  /// Path away from the stock, in the times above but not sampled.
+  double unsampled_length_m = 0.0, unsampled_time_s = 0.0;
   double volume_removed_m3 = 0.0;  ///< the stock's volume before − after
   double max_force_n = 0.0, max_torque_nm = 0.0, max_power_w = 0.0;
   int max_force_line = 0, max_torque_line = 0, max_power_line = 0;
@@ -128,7 +156,8 @@ struct ProgramAnalysis {
   std::vector<Warning> warnings;
 };
 
-/// Called with each block of samples, in program order.
+/// Called with each block of samples, in program order, one block at a time;
+/// on a worker thread unless ProgramAnalysisSettings::overlap_blocks is off.
 using SampleSink = std::function<void(std::span<const PathSample>)>;
 /// Called after each block with the fraction of the program done.
 using ProgressSink = std::function<void(double fraction)>;
@@ -140,6 +169,24 @@ ProgramAnalysis analyse_program(const Program& program, const Tooling& tooling,
                                 const cutting::CuttingLaw& law, DexelStock& stock,
                                 const ProgramAnalysisSettings& settings, const SampleSink& sink,
                                 const ProgressSink& progress = {});
+
+/// The stretch of a move whose tip comes within `distance_m` of the box along
+/// every axis (the box grown by distance_m): the move fractions [from_u,
+/// to_u], exact for a straight move (its tip moves on a line); an arc is
+/// taken whole when its circle's bounding box comes that close. Empty (from_u
+/// > to_u) when the move stays farther away.
+struct MoveStretch {
+  double from_u = 0.0, to_u = 1.0;
+  bool empty() const noexcept { return from_u > to_u; }
+};
+MoveStretch move_near_box(const Move& move, const StockBox& box, double distance_m) noexcept;
+
+/// How far from its tip a cutter reaches, in any direction: √(R² + L²).
+double cutter_reach_m(const CutterShape& shape) noexcept;
+
+/// A move longer than this (m) is reported: no machine or robot travels that
+/// far in one block, so it is a mistyped coordinate or unit.
+inline constexpr double kImplausibleMoveM = 1000.0;
 
 /// The sample spacing used for a tool when none is set: three feeds per tooth
 /// at the program's largest feed and speed for that tool, but never below
