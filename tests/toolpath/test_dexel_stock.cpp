@@ -298,7 +298,7 @@ TEST(DexelStock, BullNoseGrooveExactAndAsInstancesAgree) {
   // The groove's section at depth e < r_c: 2 [R' e + ∫ √(r_c² − u²) du over
   // [r_c − e, r_c]]; over a long groove the ends are a small share, bounded
   // here by the volume of a whole bull-nose end cap at each end.
-  const double radius = 4e-3, corner = 1.5e-3, e = 1.1e-3, res = 0.2e-3, length = 30e-3;
+  const double radius = 4e-3, corner = 1.5e-3, e = 1.1e-3, res = 0.25e-3, length = 20e-3;
   const Vector3d start(10e-3, 10.05e-3, 8e-3 - e), end = start + Vector3d(length, 0, 0);
   DexelStock exact(box_mm(0, 0, 0, 50, 20, 8), res), instances = exact;
   const double before = exact.volume_m3();
