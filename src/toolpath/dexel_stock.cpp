@@ -450,10 +450,22 @@ struct DexelAccess {
       }
     }
 
-    // x rays (g = 0, across y) and y rays (g = 1, across x), per height.
+    // x rays (g = 0, across y) and y rays (g = 1, across x), per height. On
+    // a level move the cylinder part's span on a ray does not depend on the
+    // height (where the height is within the part): it is found once per ray
+    // column and kept (per-thread scratch, no allocation once grown).
+    const bool level = dz == 0.0;
+    thread_local std::vector<Span> level_span;
+    thread_local std::vector<char> level_known;
     for (int g = 0; g < 2; ++g) {
       const int across = 1 - g;
       const Grid& grid = stock.grids_[g];
+      if (level) {
+        const std::size_t columns =
+            static_cast<std::size_t>(std::max(0, range[across].last - range[across].first + 1));
+        level_span.assign(columns, Span{});
+        level_known.assign(columns, 0);
+      }
       for (int iz = range[2].first; iz <= range[2].last; ++iz) {
         const double z = stock.cell_centre_m(2, iz);
         // τ where the cylinder part's height range [z + corner, z + L] covers z.
@@ -461,12 +473,21 @@ struct DexelAccess {
         for (int ia = range[across].first; ia <= range[across].last; ++ia) {
           const double a = stock.cell_centre_m(across, ia);
           Span along;
-          const Span tau = intersect(tau_z, slab(c0[across], s[across], a - radius, a + radius));
-          if (!tau.empty()) {
-            Eigen::Vector2d p = Eigen::Vector2d::Zero(), e = Eigen::Vector2d::Zero();
-            p[across] = a;
-            e[g] = 1.0;
-            along = line_capsule<2>(p, e, c0 + tau.lo * s, c0 + tau.hi * s, radius);
+          const std::size_t column = static_cast<std::size_t>(ia - range[across].first);
+          if (level && !tau_z.empty() && level_known[column]) {
+            along = level_span[column];
+          } else {
+            const Span tau = intersect(tau_z, slab(c0[across], s[across], a - radius, a + radius));
+            if (!tau.empty()) {
+              Eigen::Vector2d p = Eigen::Vector2d::Zero(), e = Eigen::Vector2d::Zero();
+              p[across] = a;
+              e[g] = 1.0;
+              along = line_capsule<2>(p, e, c0 + tau.lo * s, c0 + tau.hi * s, radius);
+            }
+            if (level && !tau_z.empty()) {
+              level_span[column] = along;
+              level_known[column] = 1;
+            }
           }
           if (corner > 0.0) {
             Eigen::Vector3d p(0.0, 0.0, z);
