@@ -349,7 +349,8 @@ TEST(JobValidation, NonFiniteValues) {
 
 TEST(JobValidation, UnknownKeys) {
   expect_error("tool:\n  diameter: 10\n  teth: 2\n", "tool.teth", 3,
-               "unknown key; expected one of: type, corner_radius, diameter, teeth, helix, overhang, E, runout "
+               "unknown key; expected one of: type, corner_radius, diameter, teeth, helix, "
+               "overhang, E, runout "
                "(did you mean 'teeth'?)");
   // The list grows with every section robomill learns; its start and the
   // suggestion are what matter.
