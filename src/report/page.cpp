@@ -61,8 +61,13 @@ double parse_number(const std::string& text) {
 
 }  // namespace
 
-std::optional<Table> Table::parse(std::string_view text) {
-  Table table;
+namespace {
+
+// Calls on_header(cells) for the first row (comment lines starting with '#'
+// before it skipped) and on_row(cells) for each later non-empty row; either
+// returning false stops the reading. False when a callback stopped it.
+template <class OnHeader, class OnRow>
+bool for_each_row(std::string_view text, OnHeader&& on_header, OnRow&& on_row) {
   std::size_t start = 0;
   bool header = true;
   while (start < text.size()) {
@@ -77,18 +82,36 @@ std::optional<Table> Table::parse(std::string_view text) {
       continue;
     std::vector<std::string> cells = split_line(line);
     if (header) {
-      table.names_ = std::move(cells);
-      table.cells_.resize(table.names_.size());
       header = false;
-      continue;
+      if (!on_header(cells))
+        return false;
+    } else if (!on_row(cells)) {
+      return false;
     }
-    if (cells.size() != table.names_.size())
-      return std::nullopt;
-    for (std::size_t c = 0; c < cells.size(); ++c)
-      table.cells_[c].push_back(std::move(cells[c]));
-    ++table.rows_;
   }
-  if (table.names_.empty())
+  return true;
+}
+
+}  // namespace
+
+std::optional<Table> Table::parse(std::string_view text) {
+  Table table;
+  const bool read = for_each_row(
+      text,
+      [&](std::vector<std::string>& cells) {
+        table.names_ = std::move(cells);
+        table.cells_.resize(table.names_.size());
+        return true;
+      },
+      [&](std::vector<std::string>& cells) {
+        if (cells.size() != table.names_.size())
+          return false;
+        for (std::size_t c = 0; c < cells.size(); ++c)
+          table.cells_[c].push_back(std::move(cells[c]));
+        ++table.rows_;
+        return true;
+      });
+  if (!read || table.names_.empty())
     return std::nullopt;
   return table;
 }
@@ -97,7 +120,7 @@ std::optional<Table> Table::parse_largest(std::string_view text, const std::stri
                                           std::size_t rows) {
   Table table;
   std::size_t key = 0, row = 0;
-  bool header = true;
+  bool has_key = true;
   // The kept rows: (value, row), a min-heap on the value (the later row
   // first among equal ones), and their cells.
   std::vector<std::pair<double, std::size_t>> heap;
@@ -106,46 +129,38 @@ std::optional<Table> Table::parse_largest(std::string_view text, const std::stri
                           const std::pair<double, std::size_t>& b) {
     return a.first > b.first || (a.first == b.first && a.second < b.second);
   };
-  std::size_t start = 0;
-  while (start < text.size()) {
-    std::size_t end = text.find('\n', start);
-    if (end == std::string_view::npos)
-      end = text.size();
-    const std::string_view line = text.substr(start, end - start);
-    start = end + 1;
-    if (line.empty() || line == "\r")
-      continue;
-    if (header && line.front() == '#')
-      continue;
-    std::vector<std::string> cells = split_line(line);
-    if (header) {
-      table.names_ = std::move(cells);
-      const auto it = std::find(table.names_.begin(), table.names_.end(), column);
-      if (it == table.names_.end())
-        return parse(text);
-      key = static_cast<std::size_t>(it - table.names_.begin());
-      table.cells_.resize(table.names_.size());
-      header = false;
-      continue;
-    }
-    if (cells.size() != table.names_.size())
-      return std::nullopt;
-    const double value = parse_number(cells[key]);
-    const std::size_t index = row++;
-    if (!std::isfinite(value) || rows == 0)
-      continue;
-    if (heap.size() == rows) {
-      if (!(value > heap.front().first))
-        continue;
-      std::pop_heap(heap.begin(), heap.end(), smaller);
-      kept.erase(heap.back().second);
-      heap.pop_back();
-    }
-    heap.emplace_back(value, index);
-    std::push_heap(heap.begin(), heap.end(), smaller);
-    kept.emplace(index, std::move(cells));
-  }
-  if (table.names_.empty())
+  const bool read = for_each_row(
+      text,
+      [&](std::vector<std::string>& cells) {
+        table.names_ = std::move(cells);
+        const auto it = std::find(table.names_.begin(), table.names_.end(), column);
+        has_key = it != table.names_.end();
+        key = static_cast<std::size_t>(it - table.names_.begin());
+        table.cells_.resize(table.names_.size());
+        return has_key;
+      },
+      [&](std::vector<std::string>& cells) {
+        if (cells.size() != table.names_.size())
+          return false;
+        const double value = parse_number(cells[key]);
+        const std::size_t index = row++;
+        if (!std::isfinite(value) || rows == 0)
+          return true;
+        if (heap.size() == rows) {
+          if (!(value > heap.front().first))
+            return true;
+          std::pop_heap(heap.begin(), heap.end(), smaller);
+          kept.erase(heap.back().second);
+          heap.pop_back();
+        }
+        heap.emplace_back(value, index);
+        std::push_heap(heap.begin(), heap.end(), smaller);
+        kept.emplace(index, std::move(cells));
+        return true;
+      });
+  if (!has_key)  // no such column: the whole table
+    return parse(text);
+  if (!read || table.names_.empty())
     return std::nullopt;
   for (auto& [index, cells] : kept) {
     for (std::size_t c = 0; c < cells.size(); ++c)

@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "robomill/toolpath/program_analysis.hpp"
+#include "toolpath/program_fixtures.hpp"
 
 namespace robomill::toolpath {
 namespace {
@@ -16,37 +17,12 @@ constexpr double kPi = std::numbers::pi;
 const double kSpindle = 8000.0 * 2.0 * kPi / 60.0;
 const double kFeed = 600e-3 / 60.0;  // 600 mm/min
 
-tool::Tool flat_tool() {
-  tool::ToolSpec spec;
-  spec.type = tool::ToolType::flat;
-  spec.diameter_m = 10e-3;
-  spec.teeth = 3;
-  spec.helix_rad = 30.0 * kPi / 180.0;
-  spec.overhang_m = 40e-3;
-  return tool::Tool(spec);
-}
-
-cutting::CuttingLaw aluminium() {
-  cutting::LinearLaw law;
-  law.Ktc_pa = 796e6;
-  law.Krc_pa = 169e6;
-  law.Kac_pa = 223e6;
-  law.Kte_n_per_m = 27.7e3;
-  law.Kre_n_per_m = 15.4e3;
-  law.Kae_n_per_m = 1.2e3;
-  return law;
-}
+using fixtures::aluminium;
+using fixtures::flat_tool;
 
 Move line_move(const Eigen::Vector3d& from, const Eigen::Vector3d& to, int line,
                MotionKind kind = MotionKind::linear) {
-  Move move;
-  move.kind = kind;
-  move.start_m = from;
-  move.end_m = to;
-  move.feed_m_s = kind == MotionKind::rapid ? 0.0 : kFeed;
-  move.spindle_rad_s = kSpindle;
-  move.line = line;
-  return move;
+  return fixtures::line_move(from, to, kFeed, kSpindle, kind, line);
 }
 
 struct AirRun {
@@ -157,9 +133,11 @@ TEST(ProgramAir, AirStretchAddsItsLengthAndTimeButNoSamples) {
   }
   EXPECT_EQ(j, skipped.samples.size());
   // A move's samples are consecutive steps.
-  for (std::size_t i = 1; i < skipped.samples.size(); ++i)
-    if (skipped.samples[i].move == skipped.samples[i - 1].move)
+  for (std::size_t i = 1; i < skipped.samples.size(); ++i) {
+    if (skipped.samples[i].move == skipped.samples[i - 1].move) {
       EXPECT_EQ(skipped.samples[i].step, skipped.samples[i - 1].step + 1);
+    }
+  }
 }
 
 // A mistyped coordinate: a 100 km feed move (G1 X100000000) through the
