@@ -33,6 +33,22 @@ PYEOF
 "$ROBOMILL" stability "$J" --out "$WORK/sld" --quiet || fail "stability exit code"
 [ -s "$WORK/sld/sld.csv" ] || fail "no sld.csv"
 
+# The robot along the program with a bull nose (the KR 270 pocket, its T1 a
+# 1.5 mm-corner bull nose): every engaged sample gets its posture, chatter
+# margin and deflection, as with the flat end mill.
+R="$SOURCE/examples/toolpath_robot_pocket.yaml"
+FAST=(--set "toolpath.spacing=0.5 mm" --set "stability.speeds={from: 4000 rpm, to: 12000 rpm, count: 41}")
+"$ROBOMILL" toolpath "$R" --out "$WORK/robot" --quiet "${FAST[@]}" \
+  --set "toolpath.tools.T1={type: bull, corner_radius: 1.5 mm, diameter: 10 mm, teeth: 3, helix: 30 deg, overhang: 40 mm}" \
+  || fail "robot with a bull nose exit code"
+/usr/bin/python3 - "$WORK/robot/summary.json" <<'PYEOF' || fail "robot along the program with a bull nose"
+import json, math, sys
+r = json.load(open(sys.argv[1]))["robot_along_path"]
+assert r["analysed_samples"] > 400 and r["stability_samples"] == r["analysed_samples"], r
+assert math.isfinite(r["min_margin"]) and r["min_margin"] > 0, r
+assert 0 < r["max_deflection_um"] < 1000, r
+PYEOF
+
 expect_exit2 "tool.corner_radius" forces "$J" --set "tool.corner_radius=9 mm"
 expect_exit2 "tool.corner_radius" forces "$J" --set "tool.type=flat"
 finish
