@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -306,8 +307,8 @@ TEST(DexelStock, BullNoseGrooveExactAndAsInstancesAgree) {
   const Vector3d tilted = Vector3d(1e-7, 0, 1).normalized();
   instances.remove_sweep(bull(radius, corner), start, tilted, end, tilted);
   auto antiderivative = [&](double u) {
-    return 0.5 * u * std::sqrt(corner * corner - u * u) +
-           0.5 * corner * corner * std::asin(u / corner);
+    return 0.5 * u * std::sqrt(std::max(0.0, corner * corner - u * u)) +
+           0.5 * corner * corner * std::asin(std::clamp(u / corner, -1.0, 1.0));
   };
   const double section =
       2 * ((radius - corner) * e + antiderivative(corner) - antiderivative(corner - e));

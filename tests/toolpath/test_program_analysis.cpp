@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -285,8 +286,8 @@ TEST(ProgramAnalysis, BullNoseSlotInsideTheCornerMatchesItsClosedForm) {
   const std::vector<PathSample> samples = steady_slot(bull, ap, 0.25e-3);
   ASSERT_GT(samples.size(), 20u);
   auto antiderivative = [&](double u) {
-    return 0.5 * u * std::sqrt(corner * corner - u * u) +
-           0.5 * corner * corner * std::asin(u / corner);
+    return 0.5 * u * std::sqrt(std::max(0.0, corner * corner - u * u)) +
+           0.5 * corner * corner * std::asin(std::clamp(u / corner, -1.0, 1.0));
   };
   const double section =
       2.0 * ((radius - corner) * ap + antiderivative(corner) - antiderivative(corner - ap));
