@@ -53,6 +53,16 @@ ProgramRun run(const Program& program, const tool::Tool& cutter, DexelStock& sto
 const double kSpindle = 8000.0 * 2.0 * kPi / 60.0;
 const double kFeed = 600e-3 / 60.0;  // 600 mm/min
 
+// A slot along +x from x = −10 to 50 mm at y = 0 with the tip at height z:
+// the approach (a rapid to the start) and the one feed move.
+Program straight_slot(double z_m) {
+  Program program;
+  program.moves.push_back(
+      line_move({-10e-3, 0, z_m}, {-10e-3, 0, z_m}, kFeed, kSpindle, MotionKind::rapid));
+  program.moves.push_back(line_move({-10e-3, 0, z_m}, {50e-3, 0, z_m}, kFeed, kSpindle));
+  return program;
+}
+
 // A straight slot: a program of one approach and one feed move along +x at
 // depth ap through a fresh stock. Every sample away from the ends engages
 // [0, π] over the depth, so its forces must be those of `robomill forces` for
@@ -63,10 +73,7 @@ TEST(ProgramAnalysis, SlotForcesAreThoseOfTheForcesCommand) {
   const tool::Tool cutter = flat_tool();
   const double ap = 2e-3, top = 20e-3;
   DexelStock stock({Eigen::Vector3d(0, -20e-3, 0), Eigen::Vector3d(60e-3, 20e-3, top)}, 0.25e-3);
-  Program program;
-  program.moves.push_back(
-      line_move({-10e-3, 0, top - ap}, {-10e-3, 0, top - ap}, kFeed, kSpindle, MotionKind::rapid));
-  program.moves.push_back(line_move({-10e-3, 0, top - ap}, {50e-3, 0, top - ap}, kFeed, kSpindle));
+  const Program program = straight_slot(top - ap);
   ProgramAnalysisSettings settings;
   settings.force_steps_per_tooth = 90;
   const ProgramRun result = run(program, cutter, stock, settings);
@@ -137,10 +144,7 @@ std::vector<PathSample> steady_slot(const tool::Tool& cutter, double ap, double 
   const double top = 20.137e-3;
   DexelStock stock({Eigen::Vector3d(0, -20e-3, 0), Eigen::Vector3d(60e-3, 20e-3, top)},
                    resolution_m);
-  Program program;
-  program.moves.push_back(
-      line_move({-10e-3, 0, top - ap}, {-10e-3, 0, top - ap}, kFeed, kSpindle, MotionKind::rapid));
-  program.moves.push_back(line_move({-10e-3, 0, top - ap}, {50e-3, 0, top - ap}, kFeed, kSpindle));
+  const Program program = straight_slot(top - ap);
   ProgramAnalysisSettings settings;
   settings.force_steps_per_tooth = 90;
   std::vector<PathSample> steady;
@@ -213,10 +217,7 @@ TEST(ProgramAnalysis, ThroughSlotEngagesThePlateOnly) {
   const tool::Tool cutter = flat_tool(10e-3, 3, 30.0);
   const double plate = 3.37e-3, below = 1.13e-3;
   DexelStock stock({Eigen::Vector3d(0, -20e-3, 0), Eigen::Vector3d(60e-3, 20e-3, plate)}, 0.5e-3);
-  Program program;
-  program.moves.push_back(
-      line_move({-10e-3, 0, -below}, {-10e-3, 0, -below}, kFeed, kSpindle, MotionKind::rapid));
-  program.moves.push_back(line_move({-10e-3, 0, -below}, {50e-3, 0, -below}, kFeed, kSpindle));
+  const Program program = straight_slot(-below);
   ProgramAnalysisSettings settings;
   settings.force_steps_per_tooth = 90;
   const ProgramRun result = run(program, cutter, stock, settings);
