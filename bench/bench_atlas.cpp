@@ -14,15 +14,15 @@
 
 #include "robomill/atlas/atlas.hpp"
 #include "robomill/atlas/store.hpp"
-#include "robomill/io/job.hpp"
+#include "robomill/job/job.hpp"
 
 namespace {
 
 using namespace robomill;
 
 struct Setup {
-  io::Job job = io::load_job(std::filesystem::path(__FILE__).parent_path().parent_path() /
-                             "examples" / "003_kr270_atlas.yaml");
+  job::Job job = job::load_job(std::filesystem::path(__FILE__).parent_path().parent_path() /
+                               "examples" / "003_kr270_atlas.yaml");
   robot::RobotModel robot{job.robot->description};
   atlas::AtlasContext context{
       *job.atlas,

@@ -6,7 +6,7 @@
 
 #include <string>
 
-#include "robomill/io/job.hpp"
+#include "robomill/job/job.hpp"
 #include "robomill/planning/path_performance.hpp"
 #include "support/case004.hpp"
 

@@ -13,13 +13,13 @@
 #include <memory>
 #include <string>
 
-#include "robomill/io/job.hpp"
+#include "robomill/analysis/robot_path_setup.hpp"
 #include "robomill/io/program_readers.hpp"
-#include "robomill/io/robot_path.hpp"
-#include "robomill/toolpath/feed_schedule.hpp"
+#include "robomill/job/job.hpp"
+#include "robomill/robot_path/feed_schedule.hpp"
+#include "robomill/robot_path/program_optimization.hpp"
+#include "robomill/robot_path/robot_along_path.hpp"
 #include "robomill/toolpath/program_analysis.hpp"
-#include "robomill/toolpath/program_optimization.hpp"
-#include "robomill/toolpath/robot_along_path.hpp"
 
 namespace {
 
@@ -40,8 +40,8 @@ std::string raster_program() {
 
 // The example's robot and cut, the raster program, two threads.
 struct Bench {
-  io::Job job = io::load_job(std::filesystem::path(ROBOMILL_SOURCE_DIR) / "examples" /
-                             "toolpath_robot_pocket.yaml");
+  job::Job job = job::load_job(std::filesystem::path(ROBOMILL_SOURCE_DIR) / "examples" /
+                               "toolpath_robot_pocket.yaml");
   toolpath::Program program = io::read_gcode(raster_program(), {});
   toolpath::Tooling tooling;
   toolpath::ProgramAnalysisSettings settings;
@@ -59,17 +59,17 @@ struct Bench {
 void BM_RobotAlongProgram(benchmark::State& state) {
   const bool robot_on = state.range(0) != 0;
   const Bench bench;
-  const io::Job& job = bench.job;
+  const job::Job& job = bench.job;
   const toolpath::Program& program = bench.program;
   const toolpath::Tooling& tooling = bench.tooling;
   const toolpath::ProgramAnalysisSettings& settings = bench.settings;
   std::size_t samples = 0, solves = 0;
   for (auto _ : state) {
     toolpath::DexelStock stock = bench.stock();
-    std::optional<io::RobotPathSetup> setup = io::robot_path_setup(job, 2);
-    toolpath::RobotAlongPath along(*setup->model, setup->structure, tooling, *job.cutting,
-                                   setup->stability, setup->settings);
-    std::vector<toolpath::RobotSample> block;
+    std::optional<analysis::RobotPathSetup> setup = analysis::robot_path_setup(job, 2);
+    robot_path::RobotAlongPath along(*setup->model, setup->structure, tooling, *job.cutting,
+                                     setup->stability, setup->settings);
+    std::vector<robot_path::RobotSample> block;
     const toolpath::ProgramAnalysis analysis =
         toolpath::analyse_program(program, tooling, *job.cutting, stock, settings,
                                   [&](std::span<const toolpath::PathSample> samples_block) {
@@ -78,7 +78,7 @@ void BM_RobotAlongProgram(benchmark::State& state) {
                                     block.resize(samples_block.size());
                                     along.evaluate(samples_block, block);
                                   });
-    const toolpath::RobotPathSummary summary = along.finish();
+    const robot_path::RobotPathSummary summary = along.finish();
     samples = analysis.samples;
     solves = summary.exact_limits;
     benchmark::DoNotOptimize(summary.min_margin);
@@ -93,7 +93,7 @@ void BM_RobotAlongProgram(benchmark::State& state) {
 // choice per S word (program_optimization.hpp). The target: under 2 minutes.
 void BM_RobotSpindleChoice(benchmark::State& state) {
   const Bench bench;
-  const io::Job& job = bench.job;
+  const job::Job& job = bench.job;
   const toolpath::Program& program = bench.program;
   const toolpath::Tooling& tooling = bench.tooling;
   const toolpath::ProgramAnalysisSettings& settings = bench.settings;
@@ -103,11 +103,11 @@ void BM_RobotSpindleChoice(benchmark::State& state) {
   std::size_t recorded_count = 0;
   for (auto _ : state) {
     toolpath::DexelStock stock = bench.stock();
-    std::optional<io::RobotPathSetup> setup = io::robot_path_setup(job, 2);
-    toolpath::RobotAlongPath along(*setup->model, setup->structure, tooling, *job.cutting,
-                                   setup->stability, setup->settings);
-    std::vector<toolpath::RobotSample> block;
-    std::vector<toolpath::RecordedSample> recorded;
+    std::optional<analysis::RobotPathSetup> setup = analysis::robot_path_setup(job, 2);
+    robot_path::RobotAlongPath along(*setup->model, setup->structure, tooling, *job.cutting,
+                                     setup->stability, setup->settings);
+    std::vector<robot_path::RobotSample> block;
+    std::vector<robot_path::RecordedSample> recorded;
     toolpath::analyse_program(
         program, tooling, *job.cutting, stock, settings,
         [&](std::span<const toolpath::PathSample> samples_block) {
@@ -117,8 +117,8 @@ void BM_RobotSpindleChoice(benchmark::State& state) {
             if (block[i].stability && (block[i].exact || block[i].at_risk))
               recorded.push_back({samples_block[i], block[i].q_rad, block[i].margin});
         });
-    const auto choices = toolpath::choose_spindle_speeds(along, toolpath::spindle_regions(program),
-                                                         recorded, candidates, 0.02, 2);
+    const auto choices = robot_path::choose_spindle_speeds(
+        along, robot_path::spindle_regions(program), recorded, candidates, 0.02, 2);
     recorded_count = recorded.size();
     benchmark::DoNotOptimize(choices.data());
   }
@@ -134,29 +134,29 @@ BENCHMARK(BM_RobotSpindleChoice)->Unit(benchmark::kSecond)->Iterations(1)->UseRe
 // 50-2000 mm/min). Reports the runs it took and the lines changed.
 void BM_RobotFeedSchedule(benchmark::State& state) {
   const Bench bench;
-  const io::Job& job = bench.job;
+  const job::Job& job = bench.job;
   const toolpath::Program& program = bench.program;
   const toolpath::Tooling& tooling = bench.tooling;
   const toolpath::ProgramAnalysisSettings& settings = bench.settings;
-  const toolpath::FeedLimits limits = io::feed_limits(*job.robot_path->feed_limits);
+  const robot_path::FeedLimits limits = analysis::feed_limits(*job.robot_path->feed_limits);
   int runs = 0;
   std::size_t changed = 0;
   for (auto _ : state) {
-    std::optional<io::RobotPathSetup> setup = io::robot_path_setup(job, 2);
-    toolpath::PathStabilitySettings no_limits = setup->stability;
+    std::optional<analysis::RobotPathSetup> setup = analysis::robot_path_setup(job, 2);
+    robot_path::PathStabilitySettings no_limits = setup->stability;
     no_limits.enabled = false;
     const auto make_robot = [&] {
-      return std::make_unique<toolpath::RobotAlongPath>(*setup->model, setup->structure, tooling,
-                                                        *job.cutting, no_limits, setup->settings);
+      return std::make_unique<robot_path::RobotAlongPath>(*setup->model, setup->structure, tooling,
+                                                          *job.cutting, no_limits, setup->settings);
     };
-    const toolpath::FeedSchedule schedule =
-        toolpath::schedule_feeds(program, limits, [&](const std::vector<double>& scale) {
-          return toolpath::measure_move_loads(program, scale, tooling, *job.cutting, bench.stock(),
-                                              settings, make_robot);
+    const robot_path::FeedSchedule schedule =
+        robot_path::schedule_feeds(program, limits, [&](const std::vector<double>& scale) {
+          return robot_path::measure_move_loads(program, scale, tooling, *job.cutting,
+                                                bench.stock(), settings, make_robot);
         });
     runs = schedule.runs;
     changed = 0;
-    for (const toolpath::LineFeed& line : schedule.lines)
+    for (const robot_path::LineFeed& line : schedule.lines)
       changed += line.changed() ? 1 : 0;
     benchmark::DoNotOptimize(schedule.max_after.force_peak_n);
   }

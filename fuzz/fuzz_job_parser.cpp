@@ -14,13 +14,13 @@
 #include <vector>
 
 #include "robomill/core/error.hpp"
-#include "robomill/io/job.hpp"
+#include "robomill/job/job.hpp"
 
 namespace {
 
-std::vector<robomill::io::Override> overrides_in(std::string_view text) {
+std::vector<robomill::job::Override> overrides_in(std::string_view text) {
   constexpr std::string_view kPrefix = "#set ";
-  std::vector<robomill::io::Override> overrides;
+  std::vector<robomill::job::Override> overrides;
   std::size_t position = 0;
   while (position < text.size() && overrides.size() < 8) {
     std::size_t end = text.find('\n', position);
@@ -29,7 +29,7 @@ std::vector<robomill::io::Override> overrides_in(std::string_view text) {
     const std::string_view line = text.substr(position, end - position);
     if (line.substr(0, kPrefix.size()) == kPrefix) {
       try {
-        overrides.push_back(robomill::io::parse_override(line.substr(kPrefix.size())));
+        overrides.push_back(robomill::job::parse_override(line.substr(kPrefix.size())));
       } catch (const robomill::InputError&) {
         // A malformed assignment is a legitimate rejection.
       }
@@ -44,7 +44,7 @@ std::vector<robomill::io::Override> overrides_in(std::string_view text) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);
   try {
-    const robomill::io::Job job = robomill::io::parse_job(text, "fuzz.yaml", overrides_in(text));
+    const robomill::job::Job job = robomill::job::parse_job(text, "fuzz.yaml", overrides_in(text));
     (void)job;
   } catch (const robomill::InputError&) {
     // Rejected with a message: the expected outcome for most inputs.

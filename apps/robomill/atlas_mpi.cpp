@@ -161,7 +161,7 @@ int dealer_rank(const AtlasOptions& options, const atlas::AtlasContext& context,
 }  // namespace
 
 int run_atlas_mpi(const AtlasOptions& options, int rank, int ranks) {
-  const io::Job job = load(options.job);
+  const job::Job job = load(options.job);
   if (!job.atlas)
     throw InputError("atlas", 0, "required: the atlas: section (grid, analyses, store)");
   const atlas::AtlasSpec& spec = *job.atlas;

@@ -13,7 +13,7 @@
 
 #include "robomill/commands/command_result.hpp"
 #include "robomill/commands/commands.hpp"
-#include "robomill/io/job.hpp"
+#include "robomill/job/job.hpp"
 
 namespace robomill::app {
 
@@ -34,11 +34,11 @@ struct JobCommandOptions {
 };
 
 /// Parses the `--set` assignments and loads the job (throws InputError).
-io::Job load(const JobCommandOptions& options);
+job::Job load(const JobCommandOptions& options);
 
 /// The folder a command writes into: --out, else the job's output.dir
 /// (relative to the job file), else out/<command>.
-std::filesystem::path output_dir(const JobCommandOptions& options, const io::Job& job,
+std::filesystem::path output_dir(const JobCommandOptions& options, const job::Job& job,
                                  const std::string& command);
 
 int run_validate(const JobCommandOptions& options);
@@ -63,7 +63,7 @@ commands::Progress progress_bars(bool enabled);
 /// A job command's whole run: load the job, compute, add the key inputs,
 /// write (with report.html unless --quiet), print the message and the folder.
 int run_job_command(const JobCommandOptions& options, const std::string& command,
-                    const std::function<CommandResult(const io::Job&)>& compute);
+                    const std::function<CommandResult(const job::Job&)>& compute);
 
 int run_forces(const JobCommandOptions& options);
 int run_listen(const JobCommandOptions& options);

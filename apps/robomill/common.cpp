@@ -45,16 +45,16 @@ commands::Progress progress_bars(bool enabled) {
   };
 }
 
-io::Job load(const JobCommandOptions& options) {
-  std::vector<io::Override> overrides;
+job::Job load(const JobCommandOptions& options) {
+  std::vector<job::Override> overrides;
   overrides.reserve(options.overrides.size());
   for (const std::string& assignment : options.overrides) {
-    overrides.push_back(io::parse_override(assignment));
+    overrides.push_back(job::parse_override(assignment));
   }
-  return io::load_job(options.job_file, overrides);
+  return job::load_job(options.job_file, overrides);
 }
 
-std::filesystem::path output_dir(const JobCommandOptions& options, const io::Job& job,
+std::filesystem::path output_dir(const JobCommandOptions& options, const job::Job& job,
                                  const std::string& command) {
   if (!options.out_dir.empty())
     return options.out_dir;
@@ -68,8 +68,8 @@ atlas::StoreIdentity atlas_store_identity(const JobCommandOptions& options, int 
 }
 
 int run_job_command(const JobCommandOptions& options, const std::string& command,
-                    const std::function<CommandResult(const io::Job&)>& compute) {
-  const io::Job job = load(options);
+                    const std::function<CommandResult(const job::Job&)>& compute) {
+  const job::Job job = load(options);
   CommandResult result = compute(job);
   const std::filesystem::path out = output_dir(options, job, command);
   add_key_inputs(result, job);
@@ -80,7 +80,7 @@ int run_job_command(const JobCommandOptions& options, const std::string& command
 }
 
 int run_validate(const JobCommandOptions& options) {
-  const io::Job job = load(options);
+  const job::Job job = load(options);
   if (!options.quiet) {
     std::cout << options.job_file.string() << ": valid";
     std::string sections;
@@ -91,13 +91,13 @@ int run_validate(const JobCommandOptions& options) {
     std::cout << '\n';
     if (job.posture_library) {
       // What 001 Eq 16-18 made of the library at the job's posture.
-      const io::PostureLibrary& library = *job.posture_library;
+      const job::PostureLibrary& library = *job.posture_library;
       std::cout << fmt::format("  dynamics.postures: {} measured postures interpolated at {}",
                                library.postures_rad.size(), library.query_source);
       if (library.exact_index >= 0)
         std::cout << fmt::format(" (= posture {})", library.exact_index + 1);
       std::cout << ":\n";
-      for (const io::ModeSpec& mode : job.modes) {
+      for (const job::ModeSpec& mode : job.modes) {
         std::cout << fmt::format("    {}: fn {:.4g} Hz, zeta {:.3g} %, k {:.4g} N/m\n",
                                  mode.direction, mode.natural_frequency_hz,
                                  100.0 * mode.damping_ratio, mode.stiffness_n_per_m);

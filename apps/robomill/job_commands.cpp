@@ -14,7 +14,7 @@
 namespace robomill::app {
 
 int run_advise(const JobCommandOptions& options) {
-  const io::Job job = load(options);
+  const job::Job job = load(options);
   CommandResult result = commands::compute_advise(job, options.threads);
   const std::filesystem::path out = output_dir(options, job, "advise");
   add_key_inputs(result, job);
@@ -27,44 +27,44 @@ int run_advise(const JobCommandOptions& options) {
 }
 
 int run_deflection(const JobCommandOptions& options) {
-  return run_job_command(options, "deflection", [&](const io::Job& job) {
+  return run_job_command(options, "deflection", [&](const job::Job& job) {
     return commands::compute_deflection(job, options.threads);
   });
 }
 
 int run_fit_modes(const JobCommandOptions& options) {
   return run_job_command(options, "fit-modes",
-                         [&](const io::Job& job) { return commands::compute_fit_modes(job); });
+                         [&](const job::Job& job) { return commands::compute_fit_modes(job); });
 }
 
 int run_forces(const JobCommandOptions& options) {
-  return run_job_command(options, "forces", [&](const io::Job& job) {
+  return run_job_command(options, "forces", [&](const job::Job& job) {
     return commands::compute_forces(job, options.threads);
   });
 }
 
 int run_frf(const FrfCommandOptions& options) {
   return run_job_command(options.job, "frf",
-                         [&](const io::Job& job) { return commands::compute_frf(job, options); });
+                         [&](const job::Job& job) { return commands::compute_frf(job, options); });
 }
 
 int run_identify_cutting(const IdentifyOptions& options) {
   const CommandResult result = commands::compute_identify_cutting(options);
   const std::filesystem::path out =
       options.out_dir.empty() ? std::filesystem::path("out/identify-cutting") : options.out_dir;
-  write_result(out, io::OutputSettings{}, result, !options.quiet);
+  write_result(out, job::OutputSettings{}, result, !options.quiet);
   if (!options.quiet)
     std::cout << result.message << "  written to " << out.string() << '\n';
   return 0;
 }
 
 int run_identify_stiffness(const IdentifyStiffnessOptions& options) {
-  const io::Job job = load(options.job);
+  const job::Job job = load(options.job);
   CommandResult result = commands::compute_identify_stiffness(job, options);
   add_key_inputs(result, job);
   const std::filesystem::path out = output_dir(options.job, job, "identify-stiffness");
   // Written whatever the job's output: section says (the files are the result).
-  write_result(out, io::OutputSettings{}, result, !options.job.quiet);
+  write_result(out, job::OutputSettings{}, result, !options.job.quiet);
   if (!options.job.quiet) {
     if (options.synthesize)
       std::cout << result.message << " → " << (out / "loading_tests.csv").string() << '\n';
@@ -75,42 +75,42 @@ int run_identify_stiffness(const IdentifyStiffnessOptions& options) {
 }
 
 int run_listen(const JobCommandOptions& options) {
-  return run_job_command(options, "listen", [&](const io::Job& job) {
+  return run_job_command(options, "listen", [&](const job::Job& job) {
     return commands::compute_listen(job, options.threads, progress_bars(!options.quiet));
   });
 }
 
 int run_optimize(const JobCommandOptions& options) {
-  return run_job_command(options, "optimize", [&](const io::Job& job) {
+  return run_job_command(options, "optimize", [&](const job::Job& job) {
     return commands::compute_optimize(job, options.threads);
   });
 }
 
 int run_robot(const JobCommandOptions& options) {
-  return run_job_command(options, "robot", [&](const io::Job& job) {
+  return run_job_command(options, "robot", [&](const job::Job& job) {
     return commands::compute_robot(job, options.threads);
   });
 }
 
 int run_simulate(const JobCommandOptions& options) {
   return run_job_command(options, "simulate",
-                         [&](const io::Job& job) { return commands::compute_simulate(job); });
+                         [&](const job::Job& job) { return commands::compute_simulate(job); });
 }
 
 int run_stability(const JobCommandOptions& options) {
-  return run_job_command(options, "stability", [&](const io::Job& job) {
+  return run_job_command(options, "stability", [&](const job::Job& job) {
     return commands::compute_stability(job, options.threads);
   });
 }
 
 int run_surface(const JobCommandOptions& options) {
-  return run_job_command(options, "surface", [&](const io::Job& job) {
+  return run_job_command(options, "surface", [&](const job::Job& job) {
     return commands::compute_surface(job, options.threads);
   });
 }
 
 int run_toolpath(const JobCommandOptions& options, const analysis::BlockSharing* sharing) {
-  const io::Job job = load(options);
+  const job::Job job = load(options);
   const std::filesystem::path out = output_dir(options, job, "toolpath");
   // samples.csv streams into the output folder while the program runs; a run
   // that fails leaves neither it nor a folder it had to create.

@@ -45,105 +45,136 @@ CLI::App* add_job_command(CLI::App& app, const std::string& name, const std::str
   return command;
 }
 
-/// The command line, run by every MPI rank when started by mpirun (only the
-/// atlas uses the ranks; rank 0 alone reports invalid input).
-int run(int argc, char** argv, int rank, int ranks) {
-  CLI::App app{"robomill — predicts and plans robotic milling"};
-  app.require_subcommand(1);
-  app.set_version_flag("--version", "robomill 0.1.0");
-
+/// Every subcommand's options and the subcommand itself, registered by the
+/// add_*_commands below in the order `robomill --help` lists them.
+struct Commands {
   robomill::app::JobCommandOptions validate_options, forces_options, stability_options;
-  CLI::App* validate = add_job_command(app, "validate", "check a job file without running it",
-                                       validate_options, false);
+  robomill::app::JobCommandOptions fit_options;
+  robomill::app::JobCommandOptions deflection_options;
+  robomill::app::JobCommandOptions robot_options;
+  robomill::app::JobCommandOptions optimize_options;
+  robomill::app::JobCommandOptions simulate_options;
+  robomill::app::JobCommandOptions surface_options;
+  robomill::app::JobCommandOptions toolpath_options;
+  robomill::app::JobCommandOptions listen_options;
+  robomill::app::JobCommandOptions advise_options;
+  robomill::app::IdentifyOptions identify_options;
+  robomill::app::IdentifyStiffnessOptions stiffness_options;
+  robomill::app::FrfCommandOptions frf_options;
+  robomill::app::AtlasOptions atlas_options;
+  robomill::app::ReportOptions report_options;
 
-  CLI::App* forces = add_job_command(
+  CLI::App* validate = nullptr;
+  CLI::App* forces = nullptr;
+  CLI::App* stability = nullptr;
+  CLI::App* fit = nullptr;
+  CLI::App* deflection_command = nullptr;
+  CLI::App* robot = nullptr;
+  CLI::App* optimize = nullptr;
+  CLI::App* simulate = nullptr;
+  CLI::App* surface_command = nullptr;
+  CLI::App* toolpath_command = nullptr;
+  CLI::App* listen_command = nullptr;
+  CLI::App* advise = nullptr;
+  CLI::App* identify = nullptr;
+  CLI::App* identify_stiffness = nullptr;
+  CLI::App* frf = nullptr;
+  CLI::App* atlas_command = nullptr;
+  CLI::App* report = nullptr;
+};
+
+/// validate, forces, stability, fit-modes, deflection, robot, optimize,
+/// simulate and surface: commands on a job file with the shared options only.
+void add_analysis_commands(CLI::App& app, Commands& c) {
+  c.validate = add_job_command(app, "validate", "check a job file without running it",
+                               c.validate_options, false);
+
+  c.forces = add_job_command(
       app, "forces",
       "milling forces and spindle torque over whole revolutions → forces.csv, summary.json",
-      forces_options);
+      c.forces_options);
 
-  CLI::App* stability = add_job_command(
+  c.stability = add_job_command(
       app, "stability",
       "stability lobe diagram: limiting depth per spindle speed → sld.csv (map.csv), summary.json",
-      stability_options);
+      c.stability_options);
 
-  robomill::app::JobCommandOptions fit_options;
-  CLI::App* fit = add_job_command(
+  c.fit = add_job_command(
       app, "fit-modes",
       "modal parameters from the job's measured FRFs (dynamics.frf) → modes.csv, frf_fit.csv, "
       "stabilization.csv, modes.yaml, summary.json",
-      fit_options);
+      c.fit_options);
 
-  robomill::app::JobCommandOptions deflection_options;
-  CLI::App* deflection_command = add_job_command(
+  c.deflection_command = add_job_command(
       app, "deflection",
       "force-induced deformation of tool and robot and the actual contact boundary (000 §2, §4) "
       "over a sweep of axial depths → deflection.csv, summary.json",
-      deflection_options);
+      c.deflection_options);
 
-  robomill::app::JobCommandOptions robot_options;
-  CLI::App* robot = add_job_command(
+  c.robot = add_job_command(
       app, "robot",
       "the robot's structure at a posture: pose, Jacobian, compliance, natural frequencies, "
       "tool-tip FRF; with robot.map a workspace map → summary.json, frf.csv, modes.csv, map.csv",
-      robot_options);
+      c.robot_options);
 
-  robomill::app::JobCommandOptions optimize_options;
-  CLI::App* optimize = add_job_command(
+  c.optimize = add_job_command(
       app, "optimize",
       "workpiece pose minimizing the mean tool offset along the path (004): NLopt global search "
       "+ local polish → summary.json, evaluations.csv, path.csv, landscape.csv",
-      optimize_options);
+      c.optimize_options);
 
-  robomill::app::JobCommandOptions simulate_options;
-  CLI::App* simulate = add_job_command(
+  c.simulate = add_job_command(
       app, "simulate",
       "nonlinear regenerative time-domain simulation with material removal (002 §3): forces and "
       "tool displacement, static deviation, overshoot, settling, first frequency, chatter → "
       "timeseries.csv, spectrum.csv, summary.json",
-      simulate_options);
+      c.simulate_options);
 
-  robomill::app::JobCommandOptions surface_options;
-  CLI::App* surface_command = add_job_command(
+  c.surface_command = add_job_command(
       app, "surface",
       "machined surface of a ball-end raster by a Z-map (001): runout, lead/tilt/redundancy, "
       "posture-dependent vibration; Ra, Rq, Sa, Sq, Sz → surface.csv, profiles.csv, surface.bmp, "
       "summary.json",
-      surface_options);
+      c.surface_options);
+}
 
-  robomill::app::JobCommandOptions toolpath_options;
-  CLI::App* toolpath_command = add_job_command(
+/// toolpath (with --optimize), listen and advise.
+void add_program_commands(CLI::App& app, Commands& c) {
+  c.toolpath_command = add_job_command(
       app, "toolpath",
       "the program the cell runs (G-code, APT CL, KUKA KRL) over a tri-dexel stock: engagement, "
       "forces, torque and power at every sample → samples.csv, moves.csv, stock.csv, "
       "summary.json",
-      toolpath_options);
-  toolpath_command->add_flag(
-      "--optimize", toolpath_options.optimize,
+      c.toolpath_options);
+  c.toolpath_command->add_flag(
+      "--optimize", c.toolpath_options.optimize,
       "with a robot on the program: choose each S word's spindle speed in stability.speeds for "
       "the postures it runs at, write program_optimized.<ext> and re-run the analysis on it");
 
-  robomill::app::JobCommandOptions listen_options;
-  CLI::App* listen_command = add_job_command(
+  c.listen_command = add_job_command(
       app, "listen",
       "chatter from a recorded cut (WAV/FLAC/AIFF, MATLAB, CSV, UFF58): spindle speed measured, "
       "tooth comb, mains and steady lines set aside, the chatter verdict, frequency and onset, "
       "and the spindle speeds to try → spectrum.csv, spectrogram.csv, recordings.csv, "
       "summary.json",
-      listen_options);
+      c.listen_options);
 
-  robomill::app::JobCommandOptions advise_options;
-  CLI::App* advise = add_job_command(
+  c.advise = add_job_command(
       app, "advise",
       "cutting-parameter advice: spindle speed and depth maximizing the removal rate inside the "
       "stability diagram and under the tool-offset limit; the redundancy angle along a path → "
       "advice.json, summary.json, advice_map.csv, redundancy.csv",
-      advise_options);
+      c.advise_options);
+}
 
-  robomill::app::IdentifyOptions identify_options;
+/// identify-cutting: cutting coefficients from a CSV of mean forces.
+void add_identify_cutting_command(CLI::App& app, Commands& c) {
+  robomill::app::IdentifyOptions& identify_options = c.identify_options;
   CLI::App* identify = app.add_subcommand(
       "identify-cutting",
       "least-squares linear cutting coefficients from mean forces measured at several feeds "
       "(columns feed_per_tooth_mm,fx_N,fy_N,fz_N; optional ap_mm, ae_mm)");
+  c.identify = identify;
   identify->add_option("DATA", identify_options.data_file, "CSV of mean forces")->required();
   identify->add_option("--job", identify_options.job_file,
                        "take teeth, diameter, ap, ae and direction from this job");
@@ -163,13 +194,17 @@ int run(int argc, char** argv, int rank, int ranks) {
   identify->add_option("--out", identify_options.out_dir,
                        "output folder (default out/identify-cutting)");
   identify->add_flag("--quiet", identify_options.quiet, "print nothing but errors");
+}
 
-  robomill::app::IdentifyStiffnessOptions stiffness_options;
+/// identify-stiffness: joint stiffness from static loading tests.
+void add_identify_stiffness_command(CLI::App& app, Commands& c) {
+  robomill::app::IdentifyStiffnessOptions& stiffness_options = c.stiffness_options;
   CLI::App* identify_stiffness = app.add_subcommand(
       "identify-stiffness",
       "joint stiffness Kq by least squares from static loading tests (000 §6.1): CSV columns "
       "q1_deg..qn_deg, fx_N,fy_N,fz_N [,mx_Nm,my_Nm,mz_Nm], dx_mm,dy_mm,dz_mm "
       "[,target_x_mm,…] [,load_x_mm,…] → summary.json, fit.csv, joint_stiffness.yaml");
+  c.identify_stiffness = identify_stiffness;
   identify_stiffness->add_option("DATA", stiffness_options.data_file, "CSV of loading tests")
       ->required();
   identify_stiffness
@@ -195,13 +230,17 @@ int run(int argc, char** argv, int rank, int ranks) {
   identify_stiffness->add_option("--seed", stiffness_options.seed,
                                  "with --synthesize: seed of the noise (default 1)");
   identify_stiffness->add_flag("--quiet", stiffness_options.job.quiet, "print nothing but errors");
+}
 
-  robomill::app::FrfCommandOptions frf_options;
+/// frf: tool-tip FRFs of the job's modal table.
+void add_frf_command(CLI::App& app, Commands& c) {
+  robomill::app::FrfCommandOptions& frf_options = c.frf_options;
   CLI::App* frf = add_job_command(
       app, "frf",
       "tool-tip FRFs of the job's modal table (optionally with noise) → frf.uff or frf_*.csv, "
       "summary.json",
       frf_options.job);
+  c.frf = frf;
   frf->add_option("--from", frf_options.from, "lowest frequency (default 0 Hz)");
   frf->add_option("--to", frf_options.to, "highest frequency (default 1.5 x the highest mode)");
   frf->add_option("--step", frf_options.step,
@@ -213,14 +252,18 @@ int run(int argc, char** argv, int rank, int ranks) {
   frf->add_option("--noise", frf_options.noise,
                   "relative complex noise, e.g. 0.02 for 2 % of |H| (default 0)");
   frf->add_option("--seed", frf_options.seed, "seed of the noise (default 1)");
+}
 
-  robomill::app::AtlasOptions atlas_options;
+/// atlas (its store, --export, --restart) and report.
+void add_atlas_and_report_commands(CLI::App& app, Commands& c) {
+  robomill::app::AtlasOptions& atlas_options = c.atlas_options;
   CLI::App* atlas_command = add_job_command(
       app, "atlas",
       "workspace atlas (issue 11): grid points x redundancy angles, per item compliance, lowest "
       "natural frequency, min/max stable depth; thread-parallel, resumable SQLite store "
       "(atlas.store); --export OUT writes atlas.csv, summary.json",
       atlas_options.job, false);
+  c.atlas_command = atlas_command;
   atlas_command
       ->add_option("--threads", atlas_options.job.threads, "worker threads (default: all cores)")
       ->check(CLI::NonNegativeNumber);
@@ -230,11 +273,82 @@ int run(int argc, char** argv, int rank, int ranks) {
   atlas_command->add_flag("--restart", atlas_options.restart,
                           "discard a store written by another job or version and start over");
 
-  robomill::app::ReportOptions report_options;
+  robomill::app::ReportOptions& report_options = c.report_options;
   CLI::App* report = app.add_subcommand(
       "report", "rebuild report.html from a command's output folder (its summary.json and files)");
+  c.report = report;
   report->add_option("OUTDIR", report_options.dir, "a command's output folder")->required();
   report->add_flag("--quiet", report_options.quiet, "print nothing but errors");
+}
+
+/// Runs the parsed subcommand; throws what it throws (run() reports it).
+int run_parsed(const Commands& c, [[maybe_unused]] int rank, int ranks) {
+  if (c.atlas_command->parsed() && c.atlas_options.export_dir.empty() && ranks > 1) {
+#ifdef ROBOMILL_WITH_MPI
+    return robomill::app::run_atlas_mpi(c.atlas_options, rank, ranks);
+#endif
+  }
+  if (c.toolpath_command->parsed() && ranks > 1) {
+#ifdef ROBOMILL_WITH_MPI
+    return robomill::app::run_toolpath_mpi(c.toolpath_options, rank, ranks);
+#endif
+  }
+  if (ranks > 1) {
+    throw robomill::InputError("mpirun", 0,
+                               "only `robomill atlas JOB` and `robomill toolpath JOB` run over "
+                               "MPI ranks; start this command without mpirun");
+  }
+  if (c.validate->parsed())
+    return robomill::app::run_validate(c.validate_options);
+  if (c.forces->parsed())
+    return robomill::app::run_forces(c.forces_options);
+  if (c.stability->parsed())
+    return robomill::app::run_stability(c.stability_options);
+  if (c.identify->parsed())
+    return robomill::app::run_identify_cutting(c.identify_options);
+  if (c.deflection_command->parsed())
+    return robomill::app::run_deflection(c.deflection_options);
+  if (c.robot->parsed())
+    return robomill::app::run_robot(c.robot_options);
+  if (c.fit->parsed())
+    return robomill::app::run_fit_modes(c.fit_options);
+  if (c.optimize->parsed())
+    return robomill::app::run_optimize(c.optimize_options);
+  if (c.simulate->parsed())
+    return robomill::app::run_simulate(c.simulate_options);
+  if (c.advise->parsed())
+    return robomill::app::run_advise(c.advise_options);
+  if (c.surface_command->parsed())
+    return robomill::app::run_surface(c.surface_options);
+  if (c.toolpath_command->parsed())
+    return robomill::app::run_toolpath(c.toolpath_options);
+  if (c.listen_command->parsed())
+    return robomill::app::run_listen(c.listen_options);
+  if (c.identify_stiffness->parsed())
+    return robomill::app::run_identify_stiffness(c.stiffness_options);
+  if (c.frf->parsed())
+    return robomill::app::run_frf(c.frf_options);
+  if (c.atlas_command->parsed())
+    return robomill::app::run_atlas(c.atlas_options);
+  if (c.report->parsed())
+    return robomill::app::run_report(c.report_options);
+  return kExitFailure;
+}
+
+/// The command line, run by every MPI rank when started by mpirun (only the
+/// atlas uses the ranks; rank 0 alone reports invalid input).
+int run(int argc, char** argv, int rank, int ranks) {
+  CLI::App app{"robomill — predicts and plans robotic milling"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "robomill 0.1.0");
+
+  Commands commands;
+  add_analysis_commands(app, commands);
+  add_program_commands(app, commands);
+  add_identify_cutting_command(app, commands);
+  add_identify_stiffness_command(app, commands);
+  add_frf_command(app, commands);
+  add_atlas_and_report_commands(app, commands);
 
   try {
     app.parse(argc, argv);
@@ -244,55 +358,7 @@ int run(int argc, char** argv, int rank, int ranks) {
   }
 
   try {
-    if (atlas_command->parsed() && atlas_options.export_dir.empty() && ranks > 1) {
-#ifdef ROBOMILL_WITH_MPI
-      return robomill::app::run_atlas_mpi(atlas_options, rank, ranks);
-#endif
-    }
-    if (toolpath_command->parsed() && ranks > 1) {
-#ifdef ROBOMILL_WITH_MPI
-      return robomill::app::run_toolpath_mpi(toolpath_options, rank, ranks);
-#endif
-    }
-    if (ranks > 1) {
-      throw robomill::InputError("mpirun", 0,
-                                 "only `robomill atlas JOB` and `robomill toolpath JOB` run over "
-                                 "MPI ranks; start this command without mpirun");
-    }
-    if (validate->parsed())
-      return robomill::app::run_validate(validate_options);
-    if (forces->parsed())
-      return robomill::app::run_forces(forces_options);
-    if (stability->parsed())
-      return robomill::app::run_stability(stability_options);
-    if (identify->parsed())
-      return robomill::app::run_identify_cutting(identify_options);
-    if (deflection_command->parsed())
-      return robomill::app::run_deflection(deflection_options);
-    if (robot->parsed())
-      return robomill::app::run_robot(robot_options);
-    if (fit->parsed())
-      return robomill::app::run_fit_modes(fit_options);
-    if (optimize->parsed())
-      return robomill::app::run_optimize(optimize_options);
-    if (simulate->parsed())
-      return robomill::app::run_simulate(simulate_options);
-    if (advise->parsed())
-      return robomill::app::run_advise(advise_options);
-    if (surface_command->parsed())
-      return robomill::app::run_surface(surface_options);
-    if (toolpath_command->parsed())
-      return robomill::app::run_toolpath(toolpath_options);
-    if (listen_command->parsed())
-      return robomill::app::run_listen(listen_options);
-    if (identify_stiffness->parsed())
-      return robomill::app::run_identify_stiffness(stiffness_options);
-    if (frf->parsed())
-      return robomill::app::run_frf(frf_options);
-    if (atlas_command->parsed())
-      return robomill::app::run_atlas(atlas_options);
-    if (report->parsed())
-      return robomill::app::run_report(report_options);
+    return run_parsed(commands, rank, ranks);
   } catch (const robomill::InputError& error) {
     // Under mpirun every rank reads the job: rank 0 says what is wrong. A
     // failing rank aborts them all (MpiSession::exit), so another rank

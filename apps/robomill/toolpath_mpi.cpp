@@ -18,7 +18,7 @@
 #include "mpi.hpp"
 #include "robomill/analysis/program_run.hpp"
 #include "robomill/core/error.hpp"
-#include "robomill/toolpath/robot_along_path.hpp"
+#include "robomill/robot_path/robot_along_path.hpp"
 
 namespace robomill::app {
 namespace {
@@ -29,27 +29,27 @@ constexpr std::size_t kHead = 4;
 }  // namespace
 
 int run_toolpath_mpi(const JobCommandOptions& options, int rank, int ranks) {
-  const io::Job job = load(options);
+  const job::Job job = load(options);
   analysis::BlockSharing sharing;
   sharing.process = rank;
   sharing.processes = ranks;
   int dof = 0;
   std::vector<double> message;
-  sharing.send = [&](std::size_t block, std::span<const toolpath::RobotSample> out,
-                     const toolpath::ShortcutChecks& checks) {
-    const std::size_t stride = toolpath::packed_size(dof);
+  sharing.send = [&](std::size_t block, std::span<const robot_path::RobotSample> out,
+                     const robot_path::ShortcutChecks& checks) {
+    const std::size_t stride = robot_path::packed_size(dof);
     message.assign(kHead + out.size() * stride, 0.0);
     message[0] = static_cast<double>(block);
     message[1] = static_cast<double>(checks.exact);
     message[2] = static_cast<double>(checks.checked);
     message[3] = checks.max_error;
     for (std::size_t i = 0; i < out.size(); ++i)
-      toolpath::pack(out[i], dof, message.data() + kHead + i * stride);
+      robot_path::pack(out[i], dof, message.data() + kHead + i * stride);
     MPI_Send(message.data(), static_cast<int>(message.size()), MPI_DOUBLE, 0, kTagBlock,
              MPI_COMM_WORLD);
   };
-  sharing.receive = [&](std::size_t block, std::span<toolpath::RobotSample> out,
-                        toolpath::ShortcutChecks& checks) {
+  sharing.receive = [&](std::size_t block, std::span<robot_path::RobotSample> out,
+                        robot_path::ShortcutChecks& checks) {
     const int from = static_cast<int>(block % static_cast<std::size_t>(ranks));
     MPI_Status status;
     MPI_Probe(from, kTagBlock, MPI_COMM_WORLD, &status);
@@ -64,7 +64,7 @@ int run_toolpath_mpi(const JobCommandOptions& options, int rank, int ranks) {
     // Ranks send their blocks in program order and MPI keeps one sender's
     // order: anything else is a bug, not bad input.
     if (message.size() < kHead || message.size() != kHead + out.size() * stride ||
-        stride < toolpath::packed_size(0) || static_cast<std::size_t>(message[0]) != block)
+        stride < robot_path::packed_size(0) || static_cast<std::size_t>(message[0]) != block)
       throw Error(
           fmt::format("MPI rank {} sent {} values where block {} of {} samples was "
                       "expected",
@@ -73,8 +73,8 @@ int run_toolpath_mpi(const JobCommandOptions& options, int rank, int ranks) {
     checks.checked = static_cast<std::size_t>(message[2]);
     checks.max_error = message[3];
     for (std::size_t i = 0; i < out.size(); ++i)
-      out[i] = toolpath::unpack(message.data() + kHead + i * stride,
-                                static_cast<int>(stride - toolpath::packed_size(0)));
+      out[i] = robot_path::unpack(message.data() + kHead + i * stride,
+                                  static_cast<int>(stride - robot_path::packed_size(0)));
   };
 
   if (rank != 0) {

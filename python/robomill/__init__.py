@@ -38,6 +38,8 @@ __all__ = [
     "Job",
     "advise",
     "analyze_signal",
+    "atlas",
+    "atlas_export",
     "deflection",
     "fit_modes",
     "forces",
@@ -277,6 +279,24 @@ def analyze_signal(samples, sample_rate_hz: float, spindle_rpm: float, teeth: in
     return _robomill.analyze_signal(samples, float(sample_rate_hz), float(spindle_rpm), int(teeth),
                                     float(full_scale), [float(f) for f in ignore_hz],
                                     float(threshold))
+
+
+def atlas(job, threads: int = 0, restart: bool = False) -> dict:
+    """``robomill atlas``: every pending item of the job's workspace atlas
+    (``atlas:`` and ``robot:`` sections) computed on threads and committed to
+    its resumable SQLite store (``atlas.store``), exactly as the command line
+    runs it; a second call resumes. Returns "computed", "already" (items the
+    store held before), "done", "total", "threads", "elapsed_s" and "store".
+    A store written by another job or version raises InputError unless
+    ``restart``."""
+    return dict(_robomill.atlas(_job(job), _threads(threads), bool(restart)))
+
+
+def atlas_export(job, out: Optional[PathLike] = None) -> dict:
+    """``robomill atlas --export``: the store's finished items → "atlas"
+    (x_mm, y_mm, z_mm, redundancy_deg, lowest_fn_hz, depth_min_mm, ...) and
+    "summary"; with ``out``, atlas.csv and summary.json written there."""
+    return _result(_robomill.atlas_export(_job(job), _out(out)))
 
 
 def frf(job, from_: str = "", to: str = "", step: str = "", spacing: str = "linear",

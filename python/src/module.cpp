@@ -19,11 +19,12 @@
 #include <variant>
 #include <vector>
 
+#include "robomill/atlas/store.hpp"
 #include "robomill/commands/command_result.hpp"
 #include "robomill/commands/commands.hpp"
 #include "robomill/core/error.hpp"
-#include "robomill/io/job.hpp"
 #include "robomill/io/summary.hpp"
+#include "robomill/job/job.hpp"
 #include "robomill/monitoring/recording_analysis.hpp"
 
 namespace py = pybind11;
@@ -38,23 +39,23 @@ PyObject* input_error_type = nullptr;  // robomill.InputError(robomill.Error, Va
 struct JobHandle {
   std::filesystem::path source;  ///< the file, or the name a text job goes by
   std::optional<std::string> text;
-  std::vector<robomill::io::Override> overrides;
-  std::shared_ptr<const robomill::io::Job> job;
+  std::vector<robomill::job::Override> overrides;
+  std::shared_ptr<const robomill::job::Job> job;
 
   void parse() {
-    robomill::io::Job parsed;
+    robomill::job::Job parsed;
     {
       py::gil_scoped_release release;
-      parsed = text ? robomill::io::parse_job(*text, source, overrides)
-                    : robomill::io::load_job(source, overrides);
+      parsed = text ? robomill::job::parse_job(*text, source, overrides)
+                    : robomill::job::load_job(source, overrides);
     }
-    job = std::make_shared<const robomill::io::Job>(std::move(parsed));
+    job = std::make_shared<const robomill::job::Job>(std::move(parsed));
   }
 };
 
-std::vector<robomill::io::Override> to_overrides(
+std::vector<robomill::job::Override> to_overrides(
     const std::vector<std::pair<std::string, std::string>>& pairs) {
-  std::vector<robomill::io::Override> overrides;
+  std::vector<robomill::job::Override> overrides;
   for (const auto& [path, value] : pairs)
     overrides.push_back({path, value});
   return overrides;
@@ -129,7 +130,7 @@ py::tuple to_python(const CommandResult& result) {
 /// (exactly as the command line does), and converts the result.
 template <class Compute>
 py::tuple run(Compute&& compute, const std::optional<std::filesystem::path>& out,
-              const robomill::io::OutputSettings& output, const robomill::io::Job* job) {
+              const robomill::job::OutputSettings& output, const robomill::job::Job* job) {
   CommandResult result;
   {
     py::gil_scoped_release release;
@@ -142,10 +143,25 @@ py::tuple run(Compute&& compute, const std::optional<std::filesystem::path>& out
   return to_python(result);
 }
 
-const robomill::io::Job& job_of(const JobHandle& handle) {
+const robomill::job::Job& job_of(const JobHandle& handle) {
   if (!handle.job)
     throw robomill::Error("the job was never loaded");
   return *handle.job;
+}
+
+/// The job as an atlas store records it: the file's (or text's) bytes and
+/// each override as --set writes it, as the command line identifies it.
+robomill::atlas::StoreIdentity atlas_identity(const JobHandle& handle) {
+  const robomill::job::Job& job = job_of(handle);
+  if (!job.robot)
+    throw robomill::InputError("robot", 0,
+                               "required by the atlas: the robot whose workspace it maps");
+  std::vector<std::string> sets;
+  for (const robomill::job::Override& o : handle.overrides)
+    sets.push_back(o.path + "=" + o.value);
+  const int dof = static_cast<int>(job.robot->description.joints.size());
+  return handle.text ? robomill::commands::atlas_store_identity_of_text(*handle.text, sets, dof)
+                     : robomill::commands::atlas_store_identity(handle.source, sets, dof);
 }
 
 void raise_input_error(const char* message, const std::string& field, int line) {
@@ -155,11 +171,10 @@ void raise_input_error(const char* message, const std::string& field, int line) 
   PyErr_SetObject(input_error_type, error.ptr());
 }
 
-}  // namespace
+using Out = std::optional<std::filesystem::path>;
 
-PYBIND11_MODULE(_robomill, m) {
-  m.doc() = "robomill's C++ engine (use the package `robomill`, not this module)";
-
+/// robomill.Error and robomill.InputError, and the translation of C++ errors to them.
+void register_errors(py::module_& m) {
   error_type = PyErr_NewException("robomill.Error", PyExc_RuntimeError, nullptr);
   py::tuple input_bases = py::make_tuple(py::handle(error_type), py::handle(PyExc_ValueError));
   input_error_type = PyErr_NewException("robomill.InputError", input_bases.ptr(), nullptr);
@@ -179,11 +194,14 @@ PYBIND11_MODULE(_robomill, m) {
       raise_input_error(e.what(), "", 0);
     }
   });
+}
 
+/// parse_override and the _Job class (a validated job and its overrides).
+void register_jobs(py::module_& m) {
   m.def(
       "parse_override",
       [](const std::string& assignment) {
-        const robomill::io::Override o = robomill::io::parse_override(assignment);
+        const robomill::job::Override o = robomill::job::parse_override(assignment);
         return std::make_pair(o.path, o.value);
       },
       "`key.path=value` as --set reads it");
@@ -216,7 +234,7 @@ PYBIND11_MODULE(_robomill, m) {
            [](const JobHandle& self,
               const std::vector<std::pair<std::string, std::string>>& overrides) {
              JobHandle handle = self;
-             for (const robomill::io::Override& o : to_overrides(overrides))
+             for (const robomill::job::Override& o : to_overrides(overrides))
                handle.overrides.push_back(o);
              handle.parse();
              return handle;
@@ -234,28 +252,36 @@ PYBIND11_MODULE(_robomill, m) {
       .def_property_readonly("sections", [](const JobHandle& h) {
         return robomill::commands::job_sections(job_of(h));  // as `robomill validate` lists them
       });
+}
 
-  using Out = std::optional<std::filesystem::path>;
-  auto job_command = [&m](const char* name,
-                          CommandResult (*compute)(const robomill::io::Job&, int)) {
-    m.def(
-        name,
-        [compute](const JobHandle& handle, int threads, const Out& out) {
-          const robomill::io::Job& job = job_of(handle);
-          return run([&] { return compute(job, threads); }, out, job.output, &job);
-        },
-        py::arg("job"), py::arg("threads") = 0, py::arg("out") = py::none());
-  };
-  job_command("forces", robomill::commands::compute_forces);
-  job_command("stability", robomill::commands::compute_stability);
-  job_command("robot", robomill::commands::compute_robot);
-  job_command("optimize", robomill::commands::compute_optimize);
-  job_command("advise", robomill::commands::compute_advise);
-  job_command("surface", robomill::commands::compute_surface);
+/// A command on a job: name(job, threads=0, out=None), as the command line's.
+void def_job_command(py::module_& m, const char* name,
+                     CommandResult (*compute)(const robomill::job::Job&, int)) {
+  m.def(
+      name,
+      [compute](const JobHandle& handle, int threads, const Out& out) {
+        const robomill::job::Job& job = job_of(handle);
+        return run([&] { return compute(job, threads); }, out, job.output, &job);
+      },
+      py::arg("job"), py::arg("threads") = 0, py::arg("out") = py::none());
+}
+
+/// The commands that take (job, threads, out) alone.
+void register_job_commands(py::module_& m) {
+  def_job_command(m, "forces", robomill::commands::compute_forces);
+  def_job_command(m, "stability", robomill::commands::compute_stability);
+  def_job_command(m, "robot", robomill::commands::compute_robot);
+  def_job_command(m, "optimize", robomill::commands::compute_optimize);
+  def_job_command(m, "advise", robomill::commands::compute_advise);
+  def_job_command(m, "surface", robomill::commands::compute_surface);
+}
+
+/// toolpath, listen, and the chatter detector on samples in memory.
+void register_toolpath_and_listen(py::module_& m) {
   m.def(
       "toolpath",
       [](const JobHandle& handle, int threads, const Out& out, bool optimize) {
-        const robomill::io::Job& job = job_of(handle);
+        const robomill::job::Job& job = job_of(handle);
         // In memory: the samples come back as arrays (the command line
         // streams them to samples.csv instead).
         return run(
@@ -264,7 +290,7 @@ PYBIND11_MODULE(_robomill, m) {
       },
       py::arg("job"), py::arg("threads") = 0, py::arg("out") = py::none(),
       py::arg("optimize") = false);
-  job_command("listen", [](const robomill::io::Job& job, int threads) {
+  def_job_command(m, "listen", [](const robomill::job::Job& job, int threads) {
     return robomill::commands::compute_listen(job, threads);
   });
   // The detector on samples already in memory (a NumPy array): the same
@@ -332,10 +358,14 @@ PYBIND11_MODULE(_robomill, m) {
       py::arg("samples"), py::arg("sample_rate_hz"), py::arg("spindle_rpm"), py::arg("teeth") = 1,
       py::arg("full_scale") = 0.0, py::arg("ignore_hz") = std::vector<double>{},
       py::arg("threshold") = 0.5);
+}
+
+/// deflection, fit_modes, simulate and frf.
+void register_model_commands(py::module_& m) {
   m.def(
       "deflection",
       [](const JobHandle& handle, int threads, const Out& out) {
-        const robomill::io::Job& job = job_of(handle);
+        const robomill::job::Job& job = job_of(handle);
         return run([&] { return robomill::commands::compute_deflection(job, threads); }, out,
                    job.output, &job);
       },
@@ -343,7 +373,7 @@ PYBIND11_MODULE(_robomill, m) {
   m.def(
       "fit_modes",
       [](const JobHandle& handle, const Out& out) {
-        const robomill::io::Job& job = job_of(handle);
+        const robomill::job::Job& job = job_of(handle);
         return run([&] { return robomill::commands::compute_fit_modes(job); }, out, job.output,
                    &job);
       },
@@ -351,7 +381,7 @@ PYBIND11_MODULE(_robomill, m) {
   m.def(
       "simulate",
       [](const JobHandle& handle, const Out& out) {
-        const robomill::io::Job& job = job_of(handle);
+        const robomill::job::Job& job = job_of(handle);
         return run([&] { return robomill::commands::compute_simulate(job); }, out, job.output,
                    &job);
       },
@@ -361,7 +391,7 @@ PYBIND11_MODULE(_robomill, m) {
       [](const JobHandle& handle, const std::string& from, const std::string& to,
          const std::string& step, const std::string& spacing, int points, const std::string& kind,
          const std::string& format, double noise, std::uint32_t seed, const Out& out) {
-        const robomill::io::Job& job = job_of(handle);
+        const robomill::job::Job& job = job_of(handle);
         robomill::commands::FrfSettings options;
         options.from = from;
         options.to = to;
@@ -378,6 +408,57 @@ PYBIND11_MODULE(_robomill, m) {
       py::arg("job"), py::arg("from_"), py::arg("to"), py::arg("step"), py::arg("spacing"),
       py::arg("points"), py::arg("kind"), py::arg("format"), py::arg("noise"), py::arg("seed"),
       py::arg("out") = py::none());
+}
+
+/// atlas (computing into its store) and atlas_export.
+void register_atlas(py::module_& m) {
+  m.def(
+      "atlas",
+      [](const JobHandle& handle, int threads, bool restart) {
+        const robomill::job::Job& job = job_of(handle);
+        const robomill::atlas::StoreIdentity identity = atlas_identity(handle);
+        robomill::commands::AtlasRunOptions options;
+        options.threads = threads;
+        options.restart = restart;
+        robomill::commands::AtlasRun run;
+        {
+          py::gil_scoped_release release;
+          run = robomill::commands::run_atlas(job, identity, options);
+        }
+        py::dict report;
+        report["computed"] = run.computed;
+        report["already"] = run.already;
+        report["done"] = run.done;
+        report["total"] = run.total;
+        report["threads"] = run.threads;
+        report["elapsed_s"] = run.elapsed_s;
+        report["store"] = job.atlas->store;
+        return report;
+      },
+      py::arg("job"), py::arg("threads") = 0, py::arg("restart") = false);
+  m.def(
+      "atlas_export",
+      [](const JobHandle& handle, const Out& out) {
+        const robomill::job::Job& job = job_of(handle);
+        if (!job.atlas)
+          throw robomill::InputError("atlas", 0,
+                                     "required: the atlas: section (grid, analyses, store)");
+        const robomill::atlas::StoreIdentity identity = atlas_identity(handle);
+        return run(
+            [&] {
+              try {
+                return robomill::commands::compute_atlas_export(job, identity);
+              } catch (const robomill::atlas::StoreMismatch& mismatch) {
+                throw robomill::InputError("atlas.store", 0, mismatch.what());
+              }
+            },
+            out, robomill::job::OutputSettings{}, &job);
+      },
+      py::arg("job"), py::arg("out") = py::none());
+}
+
+/// identify_cutting and identify_stiffness.
+void register_identification(py::module_& m) {
   m.def(
       "identify_cutting",
       [](const std::filesystem::path& data, const std::filesystem::path& job_file,
@@ -394,7 +475,7 @@ PYBIND11_MODULE(_robomill, m) {
         options.direction = direction;
         options.measured_on = measured_on;
         return run([&] { return robomill::commands::compute_identify_cutting(options); }, out,
-                   robomill::io::OutputSettings{}, nullptr);
+                   robomill::job::OutputSettings{}, nullptr);
       },
       py::arg("data"), py::arg("job_file"), py::arg("teeth"), py::arg("ap"), py::arg("ae"),
       py::arg("diameter"), py::arg("direction"), py::arg("measured_on"),
@@ -403,7 +484,7 @@ PYBIND11_MODULE(_robomill, m) {
       "identify_stiffness",
       [](const std::filesystem::path& data, const JobHandle& handle, double max_condition,
          bool synthesize, double noise, std::uint32_t seed, const Out& out) {
-        const robomill::io::Job& job = job_of(handle);
+        const robomill::job::Job& job = job_of(handle);
         robomill::commands::IdentifyStiffnessSettings options;
         options.data_file = data;
         options.max_condition = max_condition;
@@ -411,8 +492,22 @@ PYBIND11_MODULE(_robomill, m) {
         options.noise = noise;
         options.seed = seed;
         return run([&] { return robomill::commands::compute_identify_stiffness(job, options); },
-                   out, robomill::io::OutputSettings{}, &job);
+                   out, robomill::job::OutputSettings{}, &job);
       },
       py::arg("data"), py::arg("job"), py::arg("max_condition"), py::arg("synthesize"),
       py::arg("noise"), py::arg("seed"), py::arg("out") = py::none());
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_robomill, m) {
+  m.doc() = "robomill's C++ engine (use the package `robomill`, not this module)";
+
+  register_errors(m);
+  register_jobs(m);
+  register_job_commands(m);
+  register_toolpath_and_listen(m);
+  register_model_commands(m);
+  register_atlas(m);
+  register_identification(m);
 }

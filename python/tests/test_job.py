@@ -336,3 +336,32 @@ def test_analyze_signal_on_a_numpy_array():
     assert chatter["recommended_spindle_rpm"], "no advice"
     with pytest.raises(robomill.InputError):
         robomill.analyze_signal(np.zeros((2, 2)), rate, 6000.0)
+
+
+def test_atlas_runs_resumes_and_exports_as_the_command_line(cli, source, tmp_path):
+    # The library's atlas run (robomill.atlas) writes the store the command
+    # line resumes and exports: one job identity, one store format.
+    job_file = source / "examples" / "003_kr270_atlas.yaml"
+    sets = {"atlas.store": str(tmp_path / "atlas.sqlite"), "atlas.grid.counts": "[3, 2, 1]",
+            "atlas.redundancy.count": "2", "atlas.speeds.count": "30"}
+    job = robomill.Job(job_file, sets)
+    first = robomill.atlas(job, threads=2)
+    assert (first["total"], first["computed"], first["already"], first["done"]) == (12, 12, 0, 12)
+    again = robomill.atlas(job)
+    assert (again["computed"], again["already"], again["done"]) == (0, 12, 12)
+    args = [cli, "atlas", str(job_file)]
+    for key, value in sets.items():
+        args += ["--set", f"{key}={value}"]
+    resumed = subprocess.run(args + ["--quiet"], capture_output=True, text=True)
+    assert resumed.returncode == 0, resumed.stderr
+    exported = subprocess.run(args + ["--export", str(tmp_path / "cli"), "--quiet"],
+                              capture_output=True, text=True)
+    assert exported.returncode == 0, exported.stderr
+    result = robomill.atlas_export(job)
+    assert len(result["atlas"]["item"]) == 12
+    assert_same_as_cli(result, tmp_path / "cli")
+    # Another job on the same store is refused by name, unless restarted.
+    other = job.with_overrides({"atlas.depth_max": "4 mm"})
+    with pytest.raises(robomill.InputError, match="atlas.store"):
+        robomill.atlas(other)
+    assert robomill.atlas(other, restart=True)["computed"] == 12

@@ -8,8 +8,8 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "robomill/analysis/structure.hpp"
 #include "robomill/core/error.hpp"
-#include "robomill/io/structure.hpp"
 #include "robomill/robot/joint_dynamics.hpp"
 #include "robomill/robot/kinematics.hpp"
 #include "robomill/stability/lobes.hpp"
@@ -19,14 +19,14 @@ namespace {
 
 constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 
-Eigen::VectorXd seed_posture(const io::Job& job, const robot::RobotModel& robot) {
+Eigen::VectorXd seed_posture(const job::Job& job, const robot::RobotModel& robot) {
   if (job.robot->posture_rad.empty())
     return Eigen::VectorXd::Zero(robot.dof());
   return Eigen::Map<const Eigen::VectorXd>(job.robot->posture_rad.data(), robot.dof());
 }
 
 /// The job's path placed at workpiece.pose (004 Eq 7).
-std::vector<planning::PlacedPoint> placed_path(const io::Job& job) {
+std::vector<planning::PlacedPoint> placed_path(const job::Job& job) {
   std::vector<planning::PlacedPoint> points;
   for (const planning::PathPoint& p : job.path)
     points.push_back(planning::place(job.workpiece->cell, *job.workpiece->pose, p));
@@ -35,7 +35,7 @@ std::vector<planning::PlacedPoint> placed_path(const io::Job& job) {
 
 /// The robot's tool-tip modes (cutting frame) at every path point, the robot
 /// turned by ψ about the tool axis; an unreachable point is an input error.
-std::vector<dynamics::ModalModel> path_stations(const io::Job& job,
+std::vector<dynamics::ModalModel> path_stations(const job::Job& job,
                                                 const robot::RobotModel& robot) {
   const std::vector<planning::PlacedPoint> points = placed_path(job);
   const double psi = job.advise->redundancy_angle_rad;
@@ -64,8 +64,8 @@ std::vector<dynamics::ModalModel> path_stations(const io::Job& job,
 }
 
 /// Floquet methods step in time: two steps per period of the highest mode.
-void check_discretization(const io::Job& job, const std::vector<dynamics::ModalModel>& stations) {
-  const io::AdviseSettings& s = *job.advise;
+void check_discretization(const job::Job& job, const std::vector<dynamics::ModalModel>& stations) {
+  const job::AdviseSettings& s = *job.advise;
   if (s.limit.method == planning::LimitMethod::zoa)
     return;
   double highest_hz = 0.0;
@@ -82,12 +82,12 @@ void check_discretization(const io::Job& job, const std::vector<dynamics::ModalM
 
 }  // namespace
 
-CuttingParameterAdvice cutting_parameter_advice(const io::Job& job, int threads) {
+CuttingParameterAdvice cutting_parameter_advice(const job::Job& job, int threads) {
   if (!job.advise)
     throw InputError("advise", 0,
                      "required: the advise: section (spindle range, depth step, margin, offset "
                      "limit)");
-  const io::AdviseSettings& settings = *job.advise;
+  const job::AdviseSettings& settings = *job.advise;
   const auto start = std::chrono::steady_clock::now();
   CuttingParameterAdvice result;
 
@@ -104,7 +104,7 @@ CuttingParameterAdvice cutting_parameter_advice(const io::Job& job, int threads)
     if (settings.along_path)
       stations = path_stations(job, *robot);
     else
-      stations.push_back(io::structure_modes(job));
+      stations.push_back(analysis::structure_modes(job));
   } catch (const std::invalid_argument& error) {
     throw InputError(settings.along_path ? "advise.along" : "dynamics", 0, error.what());
   }

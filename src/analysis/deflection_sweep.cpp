@@ -4,8 +4,8 @@
 #include <chrono>
 #include <cmath>
 
+#include "robomill/analysis/deformation.hpp"
 #include "robomill/core/parallel.hpp"
-#include "robomill/io/deformation.hpp"
 
 namespace robomill::analysis {
 namespace {
@@ -13,8 +13,8 @@ namespace {
 /// The sweep: the job's depths, or ap_lim/8 … 1.5 ap_lim (Eq 22) so that both
 /// contact cases show; straight flutes (no ap_lim) sweep up to twice the
 /// job's ap.
-std::vector<double> sweep_depths(const io::Job& job, const deflection::DeflectionSetup& setup) {
-  const io::DeflectionSettings& s = *job.deflection;
+std::vector<double> sweep_depths(const job::Job& job, const deflection::DeflectionSetup& setup) {
+  const job::DeflectionSettings& s = *job.deflection;
   double from = s.depth_from_m, to = s.depth_to_m;
   const int count = s.depth_count;
   if (!(to > 0.0)) {
@@ -30,9 +30,9 @@ std::vector<double> sweep_depths(const io::Job& job, const deflection::Deflectio
   return depths;
 }
 
-DeflectionSweep sweep(const io::Job& job, int threads) {
+DeflectionSweep sweep(const job::Job& job, int threads) {
   DeflectionSweep result;
-  result.setup = io::deflection_setup(job);
+  result.setup = analysis::deflection_setup(job);
   const deflection::DeflectionSetup& setup = result.setup;
   result.depths_m = sweep_depths(job, setup);
   const std::vector<double>& depths = result.depths_m;
@@ -60,13 +60,13 @@ DeflectionSweep sweep(const io::Job& job, int threads) {
 
 }  // namespace
 
-DeflectionSweep deflection_sweep(const io::Job& job, int threads) {
-  io::require(job, {io::Section::tool, io::Section::cutting, io::Section::process});
+DeflectionSweep deflection_sweep(const job::Job& job, int threads) {
+  job::require(job, {job::Section::tool, job::Section::cutting, job::Section::process});
   if (job.deflection)
     return sweep(job, threads);
   // No section: the defaults (documented in docs/job-reference.md).
-  io::Job defaulted = job;
-  defaulted.deflection = io::DeflectionSettings{};
+  job::Job defaulted = job;
+  defaulted.deflection = job::DeflectionSettings{};
   if (!defaulted.robot || defaulted.robot->posture_rad.empty())
     defaulted.deflection->robot = false;
   return sweep(defaulted, threads);

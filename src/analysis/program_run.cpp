@@ -2,6 +2,7 @@
 // run over the stock, the robot along it, and on request improved.
 
 #include "robomill/analysis/program_run.hpp"
+#include "robomill/analysis/program_file.hpp"
 
 #include <fmt/format.h>
 
@@ -18,8 +19,8 @@ namespace robomill::analysis {
 
 // The stock the job describes: a full box, or the height map an earlier run
 // left (stock.csv: x_mm, y_mm, z_mm with x fastest).
-toolpath::DexelStock job_stock(const io::Job& job) {
-  const io::StockSettings& s = *job.stock;
+toolpath::DexelStock job_stock(const job::Job& job) {
+  const job::StockSettings& s = *job.stock;
   const toolpath::StockBox box{s.min_m, s.max_m};
   try {
     if (s.height_map.empty())
@@ -79,9 +80,9 @@ std::string other_unit_hint(double program_m, double job_m, const toolpath::Prog
 
 }  // namespace
 
-toolpath::Tooling job_tooling(const io::Job& job, const toolpath::Program& program) {
+toolpath::Tooling job_tooling(const job::Job& job, const toolpath::Program& program) {
   toolpath::Tooling tooling;
-  const io::ToolpathSettings& settings = *job.toolpath;
+  const job::ToolpathSettings& settings = *job.toolpath;
   if (settings.tools.empty())
     tooling.emplace(0, tool::Tool(*job.tool));
   for (const auto& [number, spec] : settings.tools)
@@ -128,7 +129,7 @@ toolpath::Tooling job_tooling(const io::Job& job, const toolpath::Program& progr
   return tooling;
 }
 
-toolpath::ProgramAnalysisSettings program_analysis_settings(const io::ToolpathSettings& settings,
+toolpath::ProgramAnalysisSettings program_analysis_settings(const job::ToolpathSettings& settings,
                                                             int threads, std::string source_name) {
   toolpath::ProgramAnalysisSettings analysis;
   analysis.sample_spacing_m = settings.spacing_m;
@@ -140,28 +141,28 @@ toolpath::ProgramAnalysisSettings program_analysis_settings(const io::ToolpathSe
   return analysis;
 }
 
-ProgramRun run_program(const io::Job& job, const ProgramRunOptions& options) {
-  io::require(job, {io::Section::cutting});
+ProgramRun run_program(const job::Job& job, const ProgramRunOptions& options) {
+  job::require(job, {job::Section::cutting});
   if (!job.toolpath)
     throw InputError("toolpath", 0, "required section missing: the program (toolpath.file)");
   if (!job.stock)
     throw InputError("stock", 0, "required section missing: the stock box (stock.box: {min, max})");
   const auto start = std::chrono::steady_clock::now();
-  const io::ToolpathSettings& settings = *job.toolpath;
+  const job::ToolpathSettings& settings = *job.toolpath;
   ProgramRun run;
-  run.program = io::read_program(settings);
+  run.program = analysis::read_program(settings);
   run.tooling = std::make_unique<toolpath::Tooling>(job_tooling(job, run.program));
   toolpath::DexelStock stock = job_stock(job);
   toolpath::ProgramAnalysisSettings analysis_settings =
       program_analysis_settings(settings, options.threads, settings.file.filename().string());
 
   // The robot along the program, when the job puts the part in a robot cell.
-  run.robot_setup = io::robot_path_setup(job, options.threads);
-  const io::RobotPathSetup* setup = run.robot_setup ? &*run.robot_setup : nullptr;
+  run.robot_setup = analysis::robot_path_setup(job, options.threads);
+  const analysis::RobotPathSetup* setup = run.robot_setup ? &*run.robot_setup : nullptr;
   if (setup)
-    run.robot =
-        std::make_unique<toolpath::RobotAlongPath>(*setup->model, setup->structure, *run.tooling,
-                                                   *job.cutting, setup->stability, setup->settings);
+    run.robot = std::make_unique<robot_path::RobotAlongPath>(*setup->model, setup->structure,
+                                                             *run.tooling, *job.cutting,
+                                                             setup->stability, setup->settings);
   if (options.optimize && !setup)
     throw InputError("toolpath", settings.line,
                      "--optimize needs the robot on the program: a robot: section and "
@@ -183,9 +184,9 @@ ProgramRun run_program(const io::Job& job, const ProgramRunOptions& options) {
   // The sink's MPI calls must come from this thread (MPI_THREAD_FUNNELED).
   analysis_settings.overlap_blocks = sharing == nullptr;
   FirstRunRecord record;
-  std::vector<toolpath::RobotSample> robot_block;
+  std::vector<robot_path::RobotSample> robot_block;
   std::size_t block = 0;
-  toolpath::RobotAlongPath* robot = run.robot.get();
+  robot_path::RobotAlongPath* robot = run.robot.get();
   const toolpath::SampleSink sink = [&](std::span<const toolpath::PathSample> samples) {
     if (robot) {
       robot_block.resize(samples.size());
@@ -193,7 +194,7 @@ ProgramRun run_program(const io::Job& job, const ProgramRunOptions& options) {
         robot->evaluate(samples, robot_block);
       } else {
         robot->postures(samples, robot_block);
-        toolpath::ShortcutChecks checks;
+        robot_path::ShortcutChecks checks;
         if (block % static_cast<std::size_t>(sharing->processes) ==
             static_cast<std::size_t>(sharing->process)) {
           checks = robot->compute(samples, robot_block);
@@ -220,8 +221,8 @@ ProgramRun run_program(const io::Job& job, const ProgramRunOptions& options) {
       }
     }
     if (options.on_samples)
-      options.on_samples(samples, robot ? std::span<const toolpath::RobotSample>(robot_block)
-                                        : std::span<const toolpath::RobotSample>());
+      options.on_samples(samples, robot ? std::span<const robot_path::RobotSample>(robot_block)
+                                        : std::span<const robot_path::RobotSample>());
   };
   run.analysis = toolpath::analyse_program(run.program, *run.tooling, *job.cutting, stock,
                                            analysis_settings, sink, [&](double fraction) {
@@ -242,7 +243,7 @@ ProgramRun run_program(const io::Job& job, const ProgramRunOptions& options) {
   if (!robot)
     return run;
 
-  const toolpath::RobotPathSummary& r = run.robot_summary.emplace(robot->finish());
+  const robot_path::RobotPathSummary& r = run.robot_summary.emplace(robot->finish());
   if (r.samples > 0 && r.unreachable == r.samples) {
     const Eigen::Vector3d table = job.workpiece->cell.table_origin_m * 1e3;
     throw InputError("workpiece.pose", job.robot_path ? job.robot_path->line : 0,

@@ -7,11 +7,11 @@
 #include <cmath>
 #include <numbers>
 
+#include "robomill/analysis/deformation.hpp"
+#include "robomill/analysis/structure.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/deflection/deformed_engagement.hpp"
 #include "robomill/dynamics/measured_receptance.hpp"
-#include "robomill/io/deformation.hpp"
-#include "robomill/io/structure.hpp"
 #include "robomill/stability/multipoint.hpp"
 #include "robomill/stability/process_damping.hpp"
 #include "robomill/stability/zero_order.hpp"
@@ -19,7 +19,7 @@
 namespace robomill::analysis {
 namespace {
 
-using Settings = io::StabilitySettings;
+using Settings = job::StabilitySettings;
 
 stability::FloquetMethod floquet_method(Settings::Method method) {
   switch (method) {
@@ -87,7 +87,7 @@ std::vector<StabilityLimit> floquet_diagram(const stability::RegenerativeModel& 
 }
 
 /// 003 §3.2: the lowest envelope of the diagrams of each mode alone.
-std::vector<StabilityLimit> floquet_envelope(const io::Job& job, const dynamics::ModalModel& modes,
+std::vector<StabilityLimit> floquet_envelope(const job::Job& job, const dynamics::ModalModel& modes,
                                              const stability::LobeOptions& options,
                                              const std::vector<double>& speeds) {
   std::vector<StabilityLimit> envelope;
@@ -114,9 +114,9 @@ std::vector<StabilityLimit> floquet_envelope(const io::Job& job, const dynamics:
 /// The zero-order diagram straight from the measured FRFs: the measured
 /// frequencies are the chatter-frequency grid, the FRFs (interpolated between
 /// them) the receptance; no modal fit is involved.
-std::vector<StabilityLimit> measured_frf_diagram(const io::Job& job,
+std::vector<StabilityLimit> measured_frf_diagram(const job::Job& job,
                                                  const std::vector<double>& speeds) {
-  const dynamics::MeasuredReceptance receptance(io::load_measured_frfs(job));
+  const dynamics::MeasuredReceptance receptance(analysis::load_measured_frfs(job));
   std::vector<double> grid_rad_s;
   for (const double f : receptance.frequencies_hz())
     grid_rad_s.push_back(2.0 * std::numbers::pi * f);
@@ -134,7 +134,7 @@ std::vector<StabilityLimit> measured_frf_diagram(const io::Job& job,
 
 /// The parser checks the time step against the modal table; fitted modes are
 /// known only now: two steps per period of the highest one.
-void check_discretization(const io::Job& job, const dynamics::ModalModel& modes) {
+void check_discretization(const job::Job& job, const dynamics::ModalModel& modes) {
   const Settings& settings = *job.stability;
   if (settings.method == Settings::Method::zoa)
     return;
@@ -150,16 +150,16 @@ void check_discretization(const io::Job& job, const dynamics::ModalModel& modes)
 
 /// 000 Figures 12-13: the traditional diagram, with process damping (when
 /// the job gives it), with the deformation-corrected engagement, and both.
-std::vector<DeformationVariant> deformation_variants(const io::Job& job,
+std::vector<DeformationVariant> deformation_variants(const job::Job& job,
                                                      const dynamics::ModalModel& modes,
                                                      const stability::LobeOptions& lobe_options,
                                                      const std::vector<double>& speeds, int threads,
                                                      DeformedEngagementFigures& figures) {
   const Settings& settings = *job.stability;
-  const deflection::DeflectionSetup setup = io::deflection_setup(job);
+  const deflection::DeflectionSetup setup = analysis::deflection_setup(job);
   const deflection::DeformedEngagement engagement(setup, settings.depth_max_m,
                                                   job.deflection->table_depths, threads);
-  const std::vector<dynamics::AxialShape> shapes = io::mode_shapes_along_tool(job);
+  const std::vector<dynamics::AxialShape> shapes = analysis::mode_shapes_along_tool(job);
   const bool damping = lobe_options.process_damping.has_value();
   std::vector<DeformationVariant> variants;
   variants.push_back({"traditional", false, false, {}, 0.0, 0.0, {}});
@@ -269,11 +269,11 @@ std::optional<double> interpolated_limit_m(const std::vector<StabilityLimit>& li
   return limits.back().depth_limit_m;
 }
 
-ExperimentComparison compare_experiments(const std::vector<io::Experiment>& experiments,
+ExperimentComparison compare_experiments(const std::vector<job::Experiment>& experiments,
                                          const std::vector<StabilityLimit>& limits,
                                          const dynamics::ModalModel* modes) {
   ExperimentComparison comparison;
-  for (const io::Experiment& e : experiments) {
+  for (const job::Experiment& e : experiments) {
     ExperimentCheck check;
     check.experiment = e;
     check.limit_m = interpolated_limit_m(limits, e.spindle_rad_s);
@@ -295,9 +295,9 @@ ExperimentComparison compare_experiments(const std::vector<io::Experiment>& expe
   return comparison;
 }
 
-StabilityDiagram stability_diagram(const io::Job& job, int threads) {
-  io::require(
-      job, {io::Section::tool, io::Section::cutting, io::Section::process, io::Section::stability});
+StabilityDiagram stability_diagram(const job::Job& job, int threads) {
+  job::require(job, {job::Section::tool, job::Section::cutting, job::Section::process,
+                     job::Section::stability});
   const Settings& settings = *job.stability;
   if (settings.process_damping == Settings::Damping::energy_balance &&
       settings.method != Settings::Method::zoa) {
@@ -317,11 +317,11 @@ StabilityDiagram stability_diagram(const io::Job& job, int threads) {
   diagram.speeds_rad_s = stability::linear_range(settings.speed_from_rad_s, settings.speed_to_rad_s,
                                                  settings.speed_count);
   const std::vector<double>& speeds = diagram.speeds_rad_s;
-  const bool measured = job.dynamics_source == io::Job::DynamicsSource::frf;
+  const bool measured = job.dynamics_source == job::Job::DynamicsSource::frf;
   std::optional<dynamics::ModalModel>& modes = diagram.modes;
   if (!measured) {
-    modes = io::structure_modes(job);
-    if (job.dynamics_source != io::Job::DynamicsSource::table)
+    modes = analysis::structure_modes(job);
+    if (job.dynamics_source != job::Job::DynamicsSource::table)
       check_discretization(job, *modes);
   }
   stability::LobeOptions lobe_options;
@@ -362,7 +362,7 @@ StabilityDiagram stability_diagram(const io::Job& job, int threads) {
     // The time-domain methods take the modes' measured shapes along the tool
     // (000 Eq 35) when the table gives them: the multipoint model.
     stability::MultipointStructure structure;
-    structure.mode_shapes = io::mode_shapes_along_tool(job);
+    structure.mode_shapes = analysis::mode_shapes_along_tool(job);
     const stability::RegenerativeModel model(tool::Tool(*job.tool), *job.cutting, *job.process,
                                              *modes, structure);
     if (want_coupled)

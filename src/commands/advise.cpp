@@ -27,7 +27,7 @@ constexpr double kRpmPerRadS = 60.0 / (2.0 * std::numbers::pi);
 constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 constexpr double kCm3PerMinPerM3PerS = 1e6 * 60.0;
 
-nlohmann::json speed_json(const planning::SpeedAdvice& a, const io::Job& job) {
+nlohmann::json speed_json(const planning::SpeedAdvice& a, const job::Job& job) {
   const int teeth = job.tool->teeth;
   nlohmann::json j = {
       {"spindle_rpm", a.spindle_rad_s * kRpmPerRadS},
@@ -49,33 +49,24 @@ nlohmann::json speed_json(const planning::SpeedAdvice& a, const io::Job& job) {
   return j;
 }
 
-}  // namespace
+// advice.json's limits: the job's search settings.
+nlohmann::json limits_json(const job::AdviseSettings& settings) {
+  return {{"speed_from_rpm", settings.limits.speed_min_rad_s * kRpmPerRadS},
+          {"speed_to_rpm", settings.limits.speed_max_rad_s * kRpmPerRadS},
+          {"speeds", settings.limits.speed_count},
+          {"refine", settings.limits.refine_count},
+          {"depth_max_mm", settings.limit.depth_max_m * 1e3},
+          {"depth_step_mm", settings.limits.depth_step_m * 1e3},
+          {"margin", settings.limits.stability_margin},
+          {"max_offset_mm", settings.limits.max_offset_m
+                                ? nlohmann::json(*settings.limits.max_offset_m * 1e3)
+                                : nlohmann::json(nullptr)},
+          {"measure", std::string(planning::to_string(settings.limits.measure))}};
+}
 
-CommandResult compute_advise(const io::Job& job, int threads) {
-  const analysis::CuttingParameterAdvice run = analysis::cutting_parameter_advice(job, threads);
-  const io::AdviseSettings& settings = *job.advise;
-  const planning::CuttingAdvice& advice = run.advice;
-  const std::vector<dynamics::ModalModel>& stations = run.stations;
-  const std::optional<planning::RedundancyStudy>& study = run.redundancy;
-  const std::optional<robot::RobotModel>& robot = run.robot;
-  const double elapsed_s = run.elapsed_s;
-
-  // advice.json: everything; summary.json: the key figures.
-  nlohmann::json peaks = nlohmann::json::array();
-  for (const auto& p : advice.peaks)
-    peaks.push_back(speed_json(p, job));
-  nlohmann::json limits = {
-      {"speed_from_rpm", settings.limits.speed_min_rad_s * kRpmPerRadS},
-      {"speed_to_rpm", settings.limits.speed_max_rad_s * kRpmPerRadS},
-      {"speeds", settings.limits.speed_count},
-      {"refine", settings.limits.refine_count},
-      {"depth_max_mm", settings.limit.depth_max_m * 1e3},
-      {"depth_step_mm", settings.limits.depth_step_m * 1e3},
-      {"margin", settings.limits.stability_margin},
-      {"max_offset_mm", settings.limits.max_offset_m
-                            ? nlohmann::json(*settings.limits.max_offset_m * 1e3)
-                            : nlohmann::json(nullptr)},
-      {"measure", std::string(planning::to_string(settings.limits.measure))}};
+// advice.json's floquet_check: the time-domain check of the advice.
+nlohmann::json floquet_check_json(const planning::CuttingAdvice& advice,
+                                  const job::AdviseSettings& settings) {
   nlohmann::json check = {{"done", advice.check.done}};
   if (advice.check.done) {
     check["method"] = advice.check.method;
@@ -88,12 +79,136 @@ CommandResult compute_advise(const io::Job& job, int threads) {
     }
     check["stepped_down"] = advice.stepped_down;
   }
+  return check;
+}
+
+// advice_map.csv: every speed scanned or refined, in speed order.
+io::CsvTable advice_map_table(const planning::CuttingAdvice& advice) {
+  io::CsvTable map({"spindle_rpm", "stage", "limit_depth_mm", "limited", "station",
+                    "chatter_freq_hz", "stable_depth_mm", "depth_mm", "offset_mm", "offset_limited",
+                    "mrr_cm3_per_min"});
+  std::vector<planning::SpeedAdvice> rows = advice.scan;
+  std::stable_sort(rows.begin(), rows.end(),
+                   [](const auto& a, const auto& b) { return a.spindle_rad_s < b.spindle_rad_s; });
+  for (const auto& a : rows)
+    map.add_row({a.spindle_rad_s * kRpmPerRadS, double(a.stage), a.limit_depth_m * 1e3,
+                 a.limited ? 1.0 : 0.0, double(a.station + 1), a.chatter_frequency_hz,
+                 a.stable_depth_m * 1e3, a.depth_m * 1e3, a.offset_m * 1e3,
+                 a.offset_limited ? 1.0 : 0.0, a.mrr_m3_per_s * kCm3PerMinPerM3PerS});
+  return map;
+}
+
+// redundancy.csv: every path point at every candidate angle.
+io::CsvTable redundancy_csv(const planning::RedundancyStudy& study, int dof) {
+  std::vector<std::string> columns = {"point",        "angle_deg",      "reachable",
+                                      "min_limit_mm", "at_spindle_rpm", "lowest_fn_hz"};
+  for (int j = 0; j < dof; ++j)
+    columns.push_back(fmt::format("q{}_deg", j + 1));
+  io::CsvTable table(columns);
+  for (std::size_t i = 0; i < study.points.size(); ++i) {
+    const planning::PointRedundancy& p = study.points[i];
+    for (const planning::RedundancySample& s : p.samples) {
+      std::vector<double> row = {
+          double(i + 1),       s.angle_rad * kDegPerRad,         s.reachable ? 1.0 : 0.0,
+          s.min_limit_m * 1e3, s.at_spindle_rad_s * kRpmPerRadS, s.lowest_fn_hz};
+      for (int j = 0; j < dof; ++j)
+        row.push_back(s.q[j] * kDegPerRad);
+      table.add_row(row);
+    }
+  }
+  return table;
+}
+
+// advice.json's redundancy.per_point entry of path point `i` (0-based).
+nlohmann::json point_redundancy_json(const planning::PointRedundancy& p, std::size_t i) {
+  nlohmann::json entry = {{"point", i + 1}};
+  if (p.best >= 0) {
+    const planning::RedundancySample& b = p.samples[std::size_t(p.best)];
+    entry["best_angle_deg"] = b.angle_rad * kDegPerRad;
+    entry["min_limit_mm"] = b.min_limit_m * 1e3;
+    double worst = b.min_limit_m;
+    for (const auto& s : p.samples)
+      if (s.reachable)
+        worst = std::min(worst, s.min_limit_m);
+    entry["worst_angle_min_limit_mm"] = worst * 1e3;
+  } else {
+    entry["best_angle_deg"] = nullptr;
+  }
+  return entry;
+}
+
+// advice.json's redundancy: the study per point and the best constant angle.
+nlohmann::json redundancy_json(const job::AdviseSettings& settings,
+                               const planning::RedundancyStudy& study) {
+  nlohmann::json per_point = nlohmann::json::array();
+  for (std::size_t i = 0; i < study.points.size(); ++i)
+    per_point.push_back(point_redundancy_json(study.points[i], i));
+  nlohmann::json redundancy = {{"angles", settings.redundancy->angles_rad.size()},
+                               {"points", study.points.size()},
+                               {"at", settings.redundancy->at_spindle ? "spindle" : "range"},
+                               {"per_point", per_point},
+                               {"elapsed_s", study.elapsed_s}};
+  if (study.best_constant >= 0) {
+    const double angle = settings.redundancy->angles_rad[std::size_t(study.best_constant)];
+    redundancy["best_constant_angle_deg"] = angle * kDegPerRad;
+    redundancy["constant_min_limit_mm"] = study.constant_min_limit_m * 1e3;
+    redundancy["constant_weakest_point"] = study.constant_weakest_point + 1;
+  } else {
+    redundancy["best_constant_angle_deg"] = nullptr;
+    redundancy["note"] = "no candidate angle reaches every point within the joint limits";
+  }
+  return redundancy;
+}
+
+// The message: the advice (or why there is none) and the constant
+// redundancy angle.
+std::string advise_message(const job::AdviseSettings& settings,
+                           const planning::CuttingAdvice& advice, std::size_t stations,
+                           const std::optional<planning::RedundancyStudy>& study) {
+  std::string message;
+  if (advice.feasible) {
+    message = fmt::format(
+        "advise ({}, {} station(s)): {:.0f} rpm, ap = {:.3f} mm → MRR {:.2f} cm³/min; limit "
+        "{:.3f} mm (margin to chatter {:.2f}), expected offset {:.4f} mm{}\n",
+        planning::to_string(settings.limit.method), stations,
+        advice.best.spindle_rad_s * kRpmPerRadS, advice.best.depth_m * 1e3,
+        advice.best.mrr_m3_per_s * kCm3PerMinPerM3PerS, advice.best.limit_depth_m * 1e3,
+        advice.margin_to_chatter, advice.best.offset_m * 1e3,
+        advice.best.offset_limited ? " (offset-limited)" : "");
+  } else {
+    message = "advise: no speed in the range admits one depth step within the limits\n";
+  }
+  if (study && study->best_constant >= 0)
+    message +=
+        fmt::format("  redundancy: constant angle {:g} deg, minimum stable depth {:.3f} mm\n",
+                    settings.redundancy->angles_rad[std::size_t(study->best_constant)] * kDegPerRad,
+                    study->constant_min_limit_m * 1e3);
+  return message;
+}
+
+}  // namespace
+
+CommandResult compute_advise(const job::Job& job, int threads) {
+  const analysis::CuttingParameterAdvice run = analysis::cutting_parameter_advice(job, threads);
+  const job::AdviseSettings& settings = *job.advise;
+  const planning::CuttingAdvice& advice = run.advice;
+  const std::vector<dynamics::ModalModel>& stations = run.stations;
+  const std::optional<planning::RedundancyStudy>& study = run.redundancy;
+  const std::optional<robot::RobotModel>& robot = run.robot;
+  const double elapsed_s = run.elapsed_s;
+
+  // advice.json: everything; summary.json: the key figures.
+  nlohmann::json peaks = nlohmann::json::array();
+  for (const auto& p : advice.peaks)
+    peaks.push_back(speed_json(p, job));
+  const nlohmann::json limits = limits_json(settings);
+  const nlohmann::json check = floquet_check_json(advice, settings);
   nlohmann::json document = {
       {"command", "advise"},
       {"job", job.source.string()},
       {"method", std::string(planning::to_string(settings.limit.method))},
       {"along", settings.along_path ? "path" : "posture"},
-      {"dynamics", settings.along_path ? "robot" : io::dynamics_source_name(job.dynamics_source)},
+      {"dynamics", settings.along_path ? "robot" : job::dynamics_source_name(job.dynamics_source)},
       {"stations", stations.size()},
       {"limits", limits},
       {"feasible", advice.feasible},
@@ -126,70 +241,17 @@ CommandResult compute_advise(const io::Job& job, int threads) {
   if (advice.check.done)
     summary["spectral_radius"] = advice.check.spectral_radius;
 
-  io::CsvTable map({"spindle_rpm", "stage", "limit_depth_mm", "limited", "station",
-                    "chatter_freq_hz", "stable_depth_mm", "depth_mm", "offset_mm", "offset_limited",
-                    "mrr_cm3_per_min"});
-  std::vector<planning::SpeedAdvice> rows = advice.scan;
-  std::stable_sort(rows.begin(), rows.end(),
-                   [](const auto& a, const auto& b) { return a.spindle_rad_s < b.spindle_rad_s; });
-  for (const auto& a : rows)
-    map.add_row({a.spindle_rad_s * kRpmPerRadS, double(a.stage), a.limit_depth_m * 1e3,
-                 a.limited ? 1.0 : 0.0, double(a.station + 1), a.chatter_frequency_hz,
-                 a.stable_depth_m * 1e3, a.depth_m * 1e3, a.offset_m * 1e3,
-                 a.offset_limited ? 1.0 : 0.0, a.mrr_m3_per_s * kCm3PerMinPerM3PerS});
+  io::CsvTable map = advice_map_table(advice);
 
   std::optional<io::CsvTable> redundancy_table;
   if (study) {
-    std::vector<std::string> columns = {"point",        "angle_deg",      "reachable",
-                                        "min_limit_mm", "at_spindle_rpm", "lowest_fn_hz"};
-    for (int j = 0; j < robot->dof(); ++j)
-      columns.push_back(fmt::format("q{}_deg", j + 1));
-    redundancy_table.emplace(columns);
-    nlohmann::json per_point = nlohmann::json::array();
-    for (std::size_t i = 0; i < study->points.size(); ++i) {
-      const planning::PointRedundancy& p = study->points[i];
-      for (const planning::RedundancySample& s : p.samples) {
-        std::vector<double> row = {
-            double(i + 1),       s.angle_rad * kDegPerRad,         s.reachable ? 1.0 : 0.0,
-            s.min_limit_m * 1e3, s.at_spindle_rad_s * kRpmPerRadS, s.lowest_fn_hz};
-        for (int j = 0; j < robot->dof(); ++j)
-          row.push_back(s.q[j] * kDegPerRad);
-        redundancy_table->add_row(row);
-      }
-      nlohmann::json entry = {{"point", i + 1}};
-      if (p.best >= 0) {
-        const planning::RedundancySample& b = p.samples[std::size_t(p.best)];
-        entry["best_angle_deg"] = b.angle_rad * kDegPerRad;
-        entry["min_limit_mm"] = b.min_limit_m * 1e3;
-        entry["worst_angle_min_limit_mm"] = [&] {
-          double worst = b.min_limit_m;
-          for (const auto& s : p.samples)
-            if (s.reachable)
-              worst = std::min(worst, s.min_limit_m);
-          return worst * 1e3;
-        }();
-      } else {
-        entry["best_angle_deg"] = nullptr;
-      }
-      per_point.push_back(entry);
-    }
-    nlohmann::json redundancy = {{"angles", settings.redundancy->angles_rad.size()},
-                                 {"points", study->points.size()},
-                                 {"at", settings.redundancy->at_spindle ? "spindle" : "range"},
-                                 {"per_point", per_point},
-                                 {"elapsed_s", study->elapsed_s}};
+    redundancy_table.emplace(redundancy_csv(*study, robot->dof()));
+    document["redundancy"] = redundancy_json(settings, *study);
     if (study->best_constant >= 0) {
       const double angle = settings.redundancy->angles_rad[std::size_t(study->best_constant)];
-      redundancy["best_constant_angle_deg"] = angle * kDegPerRad;
-      redundancy["constant_min_limit_mm"] = study->constant_min_limit_m * 1e3;
-      redundancy["constant_weakest_point"] = study->constant_weakest_point + 1;
       summary["redundancy_angle_deg"] = angle * kDegPerRad;
       summary["redundancy_min_limit_mm"] = study->constant_min_limit_m * 1e3;
-    } else {
-      redundancy["best_constant_angle_deg"] = nullptr;
-      redundancy["note"] = "no candidate angle reaches every point within the joint limits";
     }
-    document["redundancy"] = redundancy;
   }
 
   CommandResult result;
@@ -199,24 +261,7 @@ CommandResult compute_advise(const io::Job& job, int threads) {
   result.documents.emplace_back("advice", std::move(document));
   result.summary = std::move(summary);
 
-  std::string& message = result.message;
-  if (advice.feasible) {
-    message = fmt::format(
-        "advise ({}, {} station(s)): {:.0f} rpm, ap = {:.3f} mm → MRR {:.2f} cm³/min; limit "
-        "{:.3f} mm (margin to chatter {:.2f}), expected offset {:.4f} mm{}\n",
-        planning::to_string(settings.limit.method), stations.size(),
-        advice.best.spindle_rad_s * kRpmPerRadS, advice.best.depth_m * 1e3,
-        advice.best.mrr_m3_per_s * kCm3PerMinPerM3PerS, advice.best.limit_depth_m * 1e3,
-        advice.margin_to_chatter, advice.best.offset_m * 1e3,
-        advice.best.offset_limited ? " (offset-limited)" : "");
-  } else {
-    message = "advise: no speed in the range admits one depth step within the limits\n";
-  }
-  if (study && study->best_constant >= 0)
-    message +=
-        fmt::format("  redundancy: constant angle {:g} deg, minimum stable depth {:.3f} mm\n",
-                    settings.redundancy->angles_rad[std::size_t(study->best_constant)] * kDegPerRad,
-                    study->constant_min_limit_m * 1e3);
+  result.message = advise_message(settings, advice, stations.size(), study);
   return result;
 }
 

@@ -1,17 +1,23 @@
 // The atlas's job-level pieces (robomill/commands/commands.hpp): its
-// computation from a job, the job's identity in a store, and the export of a
-// store's finished items. The run over a store (threads, MPI ranks, batches
-// committed as they finish) is the command line's (apps/robomill).
+// computation from a job, the job's identity in a store, the run over a store
+// (threads, batches committed as they finish) and the export of a store's
+// finished items. The command line adds signals, progress text and MPI ranks
+// (apps/robomill); Python calls the same run (robomill.atlas).
 
 #include <fmt/format.h>
 
+#include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <fstream>
+#include <mutex>
 #include <numbers>
 #include <sstream>
+#include <thread>
 
 #include "robomill/commands/commands.hpp"
 #include "robomill/core/error.hpp"
+#include "robomill/core/parallel.hpp"
 #include "robomill/io/csv.hpp"
 
 namespace robomill::commands {
@@ -22,7 +28,7 @@ constexpr double kRpmPerRadS = 60.0 / (2.0 * std::numbers::pi);
 
 }  // namespace
 
-atlas::AtlasContext atlas_context(const io::Job& job, const robot::RobotModel& model) {
+atlas::AtlasContext atlas_context(const job::Job& job, const robot::RobotModel& model) {
   std::optional<tool::Tool> tool;
   if (job.tool)
     tool.emplace(*job.tool);
@@ -37,7 +43,13 @@ atlas::StoreIdentity atlas_store_identity(const std::filesystem::path& job_file,
   std::ifstream in(job_file, std::ios::binary);
   std::ostringstream text;
   text << in.rdbuf();
-  std::string canonical = text.str();
+  return atlas_store_identity_of_text(text.str(), overrides, dof);
+}
+
+atlas::StoreIdentity atlas_store_identity_of_text(std::string job_text,
+                                                  const std::vector<std::string>& overrides,
+                                                  int dof) {
+  std::string canonical = std::move(job_text);
   for (const std::string& o : overrides)
     canonical += "\n# --set " + o;
   atlas::StoreIdentity identity;
@@ -47,7 +59,122 @@ atlas::StoreIdentity atlas_store_identity(const std::filesystem::path& job_file,
   return identity;
 }
 
-CommandResult compute_atlas_export(const io::Job& job, const atlas::StoreIdentity& identity) {
+AtlasRun run_atlas(const job::Job& job, const atlas::StoreIdentity& identity,
+                   const AtlasRunOptions& options) {
+  if (!job.atlas)
+    throw InputError("atlas", 0, "required: the atlas: section (grid, analyses, store)");
+  if (!job.robot)
+    throw InputError("robot", 0, "required by the atlas: the robot whose workspace it maps");
+  const atlas::AtlasSpec& spec = *job.atlas;
+  const robot::RobotModel model(job.robot->description);
+  const atlas::AtlasContext context = atlas_context(job, model);
+  const auto interrupted = [&] { return options.interrupt && options.interrupt->load(); };
+  try {
+    atlas::AtlasStore store(spec.store, identity, spec, options.restart);
+    const std::vector<std::int64_t> pending = store.pending();
+    AtlasRun run;
+    run.total = store.item_total();
+    run.already = run.total - static_cast<std::int64_t>(pending.size());
+    run.threads = std::min<int>(core::resolve_thread_count(options.threads),
+                                std::max<std::size_t>(pending.size(), 1));
+
+    std::atomic<std::size_t> next{0};
+    std::atomic<bool> stop{false};
+    std::mutex mutex;
+    std::condition_variable ready;
+    std::vector<std::pair<std::int64_t, atlas::AtlasResult>> queue, batch;
+    std::exception_ptr failure;
+    int running = run.threads;
+    std::vector<std::thread> pool;
+    pool.reserve(static_cast<std::size_t>(run.threads));
+    const auto start = std::chrono::steady_clock::now();
+    for (int w = 0; w < run.threads; ++w) {
+      pool.emplace_back([&] {
+        try {
+          for (;;) {
+            if (stop.load() || interrupted())
+              break;
+            const std::size_t i = next.fetch_add(1);
+            if (i >= pending.size())
+              break;
+            atlas::AtlasResult r = context.evaluate(atlas::item(spec, pending[i]));
+            const std::lock_guard lock(mutex);
+            queue.emplace_back(pending[i], std::move(r));
+            ready.notify_one();
+          }
+        } catch (...) {
+          const std::lock_guard lock(mutex);
+          if (!failure)
+            failure = std::current_exception();
+          stop.store(true);
+        }
+        const std::lock_guard lock(mutex);
+        --running;
+        ready.notify_one();
+      });
+    }
+
+    // The calling thread: commit what the workers hand back, every quarter
+    // second (or every `batch` items), and report progress.
+    auto last_commit = std::chrono::steady_clock::now();
+    auto last_report = last_commit - std::chrono::seconds(1);
+    std::exception_ptr store_failure;
+    for (bool workers_done = false; !workers_done;) {
+      {
+        std::unique_lock lock(mutex);
+        ready.wait_for(lock, std::chrono::milliseconds(100), [&] {
+          return running == 0 || (spec.batch > 0 && static_cast<int>(queue.size()) >= spec.batch);
+        });
+        workers_done = running == 0;
+        batch.insert(batch.end(), std::make_move_iterator(queue.begin()),
+                     std::make_move_iterator(queue.end()));
+        queue.clear();
+      }
+      const auto now = std::chrono::steady_clock::now();
+      const bool due =
+          workers_done || (spec.batch > 0 ? static_cast<int>(batch.size()) >= spec.batch
+                                          : now - last_commit >= std::chrono::milliseconds(250));
+      if (due && !batch.empty() && !store_failure) {
+        try {
+          store.commit(batch);
+          run.computed += static_cast<std::int64_t>(batch.size());
+        } catch (...) {
+          store_failure = std::current_exception();
+          stop.store(true);
+        }
+        batch.clear();
+        last_commit = now;
+      }
+      if (options.progress &&
+          (now - last_report >= std::chrono::milliseconds(250) || workers_done)) {
+        AtlasProgress p;
+        const double elapsed = std::chrono::duration<double>(now - start).count();
+        p.items_per_s = elapsed > 0.0 ? static_cast<double>(run.computed) / elapsed : 0.0;
+        p.done = run.already + run.computed;
+        p.total = run.total;
+        p.seconds_left = p.items_per_s > 0.0
+                             ? static_cast<double>(run.total - p.done) / p.items_per_s
+                             : std::nan("");
+        options.progress(p);
+        last_report = now;
+      }
+    }
+    for (std::thread& worker : pool)
+      worker.join();
+    if (store_failure)
+      std::rethrow_exception(store_failure);
+    if (failure)
+      std::rethrow_exception(failure);
+    run.elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    run.done = run.already + run.computed;
+    run.interrupted = interrupted() && run.done < run.total;
+    return run;
+  } catch (const atlas::StoreMismatch& mismatch) {
+    throw InputError("atlas.store", 0, mismatch.what());
+  }
+}
+
+CommandResult compute_atlas_export(const job::Job& job, const atlas::StoreIdentity& identity) {
   const atlas::AtlasSpec& spec = *job.atlas;
   atlas::AtlasStore store(spec.store, identity);
   const std::int64_t total = store.item_total();

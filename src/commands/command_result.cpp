@@ -19,11 +19,11 @@ const io::CsvTable* CommandResult::table(const std::string& name) const {
   return nullptr;
 }
 
-void add_key_inputs(CommandResult& result, const io::Job& job) {
+void add_key_inputs(CommandResult& result, const job::Job& job) {
   result.documents.emplace_back("inputs", nlohmann::json::parse(report::key_inputs_json(job)));
 }
 
-void write_result(const std::filesystem::path& out, const io::OutputSettings& output,
+void write_result(const std::filesystem::path& out, const job::OutputSettings& output,
                   const CommandResult& result, bool report) {
   io::OutputBundle bundle(out);
   if (output.csv) {
@@ -71,7 +71,7 @@ void write_result(const std::filesystem::path& out, const io::OutputSettings& ou
   }
 }
 
-std::vector<std::string> job_sections(const io::Job& job) {
+std::vector<std::string> job_sections(const job::Job& job) {
   std::vector<std::string> sections;
   auto add = [&](bool present, const char* name) {
     if (present)

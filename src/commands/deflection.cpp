@@ -23,7 +23,7 @@ constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 
 }  // namespace
 
-CommandResult compute_deflection(io::Job job, int threads) {
+CommandResult compute_deflection(job::Job job, int threads) {
   const analysis::DeflectionSweep sweep = analysis::deflection_sweep(job, threads);
   const deflection::DeflectionSetup& setup = sweep.setup;
   const std::vector<double>& depths = sweep.depths_m;

@@ -10,10 +10,10 @@
 #include <nlohmann/json.hpp>
 #include <numbers>
 
+#include "robomill/analysis/structure.hpp"
 #include "robomill/commands/commands.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/io/csv.hpp"
-#include "robomill/io/structure.hpp"
 #include "robomill/io/summary.hpp"
 
 namespace robomill::commands {
@@ -37,12 +37,12 @@ nlohmann::json mode_json(const dynamics::FittedMode& m) {
 
 }  // namespace
 
-CommandResult compute_fit_modes(const io::Job& job) {
+CommandResult compute_fit_modes(const job::Job& job) {
   if (job.frf_files.empty())
     throw InputError("dynamics.frf", 0, "fit-modes needs measured FRF files (dynamics.frf)");
   const auto start = std::chrono::steady_clock::now();
-  const std::vector<dynamics::Frf> measured = io::load_measured_frfs(job);
-  const io::StructureFit structure = io::fit_structure(job, measured);
+  const std::vector<dynamics::Frf> measured = analysis::load_measured_frfs(job);
+  const analysis::StructureFit structure = analysis::fit_structure(job, measured);
   const double elapsed_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 

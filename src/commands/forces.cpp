@@ -26,7 +26,7 @@ io::CsvTable force_table(const cutting::ForceSeries& series) {
   return table;
 }
 
-nlohmann::json law_summary(const io::Job& job, const cutting::MillingForceModel& model) {
+nlohmann::json law_summary(const job::Job& job, const cutting::MillingForceModel& model) {
   nlohmann::json law = {{"law", std::string(cutting::law_name(*job.cutting))}};
   if (model.law().is_linear()) {
     // For the size-dependent law these are the coefficients at this process's
@@ -44,8 +44,8 @@ nlohmann::json law_summary(const io::Job& job, const cutting::MillingForceModel&
 
 }  // namespace
 
-CommandResult compute_forces(const io::Job& job, int threads) {
-  io::require(job, {io::Section::tool, io::Section::cutting, io::Section::process});
+CommandResult compute_forces(const job::Job& job, int threads) {
+  job::require(job, {job::Section::tool, job::Section::cutting, job::Section::process});
 
   const auto start = std::chrono::steady_clock::now();
   const tool::Tool cutter(*job.tool);

@@ -17,20 +17,20 @@
 #include "robomill/io/frf_csv.hpp"
 #include "robomill/io/summary.hpp"
 #include "robomill/io/uff58.hpp"
-#include "robomill/io/units.hpp"
+#include "robomill/job/units.hpp"
 
 namespace robomill::commands {
 namespace {
 
 /// A frequency option: "10 Hz", "6 kHz" or a bare number in Hz.
 double frequency_option(const std::string& option, const std::string& text) {
-  io::Quantity q;
+  job::Quantity q;
   try {
-    q = io::parse_quantity(text);
+    q = job::parse_quantity(text);
   } catch (const std::invalid_argument& e) {
     throw InputError(option, 0, e.what());
   }
-  if (!(q.dimension == io::dimensions::frequency || q.dimension == io::dimensions::none))
+  if (!(q.dimension == job::dimensions::frequency || q.dimension == job::dimensions::none))
     throw InputError(option, 0, "'" + text + "' is not a frequency (Hz, kHz)");
   if (!std::isfinite(q.value_si) || q.value_si < 0.0)
     throw InputError(option, 0, "'" + text + "' must be a finite frequency ≥ 0");
@@ -49,9 +49,9 @@ dynamics::FrfKind kind_option(const std::string& text) {
 
 }  // namespace
 
-CommandResult compute_frf(const io::Job& job, const FrfSettings& options) {
-  io::require(job, {io::Section::modes});
-  const dynamics::ModalModel modes = io::modal_model(job);
+CommandResult compute_frf(const job::Job& job, const FrfSettings& options) {
+  job::require(job, {job::Section::modes});
+  const dynamics::ModalModel modes = job::modal_model(job);
 
   // Default grid: linear from 0 to 1.5 × the highest mode, with 10 points in
   // the half-power band 2ζfn of the sharpest mode, so every peak is resolved;

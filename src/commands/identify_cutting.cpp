@@ -14,7 +14,7 @@
 #include "robomill/cutting/engagement.hpp"
 #include "robomill/io/csv.hpp"
 #include "robomill/io/summary.hpp"
-#include "robomill/io/units.hpp"
+#include "robomill/job/units.hpp"
 
 namespace robomill::commands {
 namespace {
@@ -23,16 +23,16 @@ namespace {
 std::optional<double> length_option(const std::string& text, const std::string& option) {
   if (text.empty())
     return std::nullopt;
-  io::Quantity quantity;
+  job::Quantity quantity;
   try {
-    quantity = io::parse_quantity(text);
+    quantity = job::parse_quantity(text);
   } catch (const std::invalid_argument& error) {
     throw InputError(option, 0, error.what());
   }
   double meters = quantity.value_si;
-  if (quantity.dimension == io::dimensions::none) {
+  if (quantity.dimension == job::dimensions::none) {
     meters *= 1e-3;
-  } else if (!(quantity.dimension == io::dimensions::length)) {
+  } else if (!(quantity.dimension == job::dimensions::length)) {
     throw InputError(option, 0, "expected a length such as '2 mm', got '" + text + "'");
   }
   if (!(meters > 0.0) || !std::isfinite(meters)) {
@@ -50,7 +50,7 @@ struct TestSetup {
 TestSetup setup_from(const IdentifyCuttingInputs& options) {
   TestSetup setup;
   if (!options.job_file.empty()) {
-    const io::Job job = io::load_job(options.job_file);
+    const job::Job job = job::load_job(options.job_file);
     if (job.tool) {
       setup.teeth = job.tool->teeth;
       setup.diameter_m = job.tool->diameter_m;

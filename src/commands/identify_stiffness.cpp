@@ -198,9 +198,9 @@ nlohmann::json vector_json(const Eigen::VectorXd& v) {
 
 }  // namespace
 
-CommandResult compute_identify_stiffness(const io::Job& job,
+CommandResult compute_identify_stiffness(const job::Job& job,
                                          const IdentifyStiffnessSettings& options) {
-  io::require(job, {io::Section::robot});
+  job::require(job, {job::Section::robot});
   const robot::RobotModel model(job.robot->description);
   std::vector<std::string> columns;
   const std::vector<LoadingTest> tests =

@@ -15,6 +15,7 @@
 #include <optional>
 #include <variant>
 
+#include "robomill/analysis/stability_diagram.hpp"
 #include "robomill/commands/commands.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/io/recording.hpp"
@@ -28,7 +29,7 @@ constexpr double kTwoPi = 2.0 * std::numbers::pi;
 // The spindle range the advice may recommend (rad/s): listen.spindle_range,
 // else the advise scan's, else the stability diagram's, else half to one and
 // a half times the commanded speed.
-std::pair<double, double> advice_range(const io::Job& job, double commanded_rad_s,
+std::pair<double, double> advice_range(const job::Job& job, double commanded_rad_s,
                                        std::string& basis) {
   if (job.listen && job.listen->spindle_range_rad_s) {
     basis = "listen.spindle_range";
@@ -46,7 +47,7 @@ std::pair<double, double> advice_range(const io::Job& job, double commanded_rad_
   return {0.5 * commanded_rad_s, 1.5 * commanded_rad_s};
 }
 
-int listen_teeth(const io::Job& job) {
+int listen_teeth(const job::Job& job) {
   if (job.listen && job.listen->teeth)
     return *job.listen->teeth;
   if (job.tool)
@@ -56,14 +57,14 @@ int listen_teeth(const io::Job& job) {
                    "section or listen.teeth (1 for a single insert)");
 }
 
-monitoring::ListenOptions detector_options(const io::Job& job, const io::RecordingSpec& spec,
+monitoring::ListenOptions detector_options(const job::Job& job, const io::RecordingSpec& spec,
                                            double commanded_hz, int teeth) {
   monitoring::ListenOptions options;
   options.commanded_spindle_hz = commanded_hz;
   options.teeth = teeth;
   options.ignore = spec.ignore;
   if (job.listen) {
-    const io::ListenSettings& s = *job.listen;
+    const job::ListenSettings& s = *job.listen;
     options.spindle_search_fraction = s.spindle_search_fraction;
     options.chatter_energy_threshold = s.chatter_energy_threshold;
     options.detect_mains = s.detect_mains;
@@ -75,32 +76,24 @@ monitoring::ListenOptions detector_options(const io::Job& job, const io::Recordi
   return options;
 }
 
-// A number from a CSV cell, NaN for text.
-double number(const io::CsvTable& table, std::size_t row, int column) {
-  if (column < 0)
-    return std::nan("");
-  const io::CsvTable::Cell& cell = table.cell(row, static_cast<std::size_t>(column));
-  return std::holds_alternative<double>(cell) ? std::get<double>(cell) : std::nan("");
-}
-
 // The predicted limit and chatter frequency at a spindle speed, linear
-// between the diagram's speeds; nullopt outside the diagram.
+// between the diagram's speeds (sorted); nullopt outside the diagram or where
+// a speed has no finite limit.
 struct Prediction {
   double depth_limit_m = 0.0;
   double chatter_hz = 0.0;
 };
-std::optional<Prediction> predicted_at(const io::CsvTable& sld, double spindle_rpm) {
-  const int speed = sld.find("spindle_rpm"), depth = sld.find("depth_limit_mm"),
-            frequency = sld.find("chatter_freq_hz");
-  for (std::size_t i = 1; i < sld.rows(); ++i) {
-    const double a = number(sld, i - 1, speed), b = number(sld, i, speed);
-    if (!(spindle_rpm >= std::min(a, b) && spindle_rpm <= std::max(a, b)) || a == b)
+std::optional<Prediction> predicted_at(const std::vector<analysis::StabilityLimit>& limits,
+                                       double spindle_rad_s) {
+  for (std::size_t i = 1; i < limits.size(); ++i) {
+    const analysis::StabilityLimit &a = limits[i - 1], &b = limits[i];
+    if (!(spindle_rad_s >= std::min(a.spindle_rad_s, b.spindle_rad_s) &&
+          spindle_rad_s <= std::max(a.spindle_rad_s, b.spindle_rad_s)) ||
+        a.spindle_rad_s == b.spindle_rad_s)
       continue;
-    const double w = (spindle_rpm - a) / (b - a);
-    const auto lerp = [&](int column) {
-      return (1.0 - w) * number(sld, i - 1, column) + w * number(sld, i, column);
-    };
-    Prediction p{lerp(depth) * 1e-3, lerp(frequency)};
+    const double w = (spindle_rad_s - a.spindle_rad_s) / (b.spindle_rad_s - a.spindle_rad_s);
+    Prediction p{(1.0 - w) * a.depth_limit_m + w * b.depth_limit_m,
+                 (1.0 - w) * a.chatter_frequency_hz + w * b.chatter_frequency_hz};
     if (!std::isfinite(p.depth_limit_m) || !std::isfinite(p.chatter_hz))
       return std::nullopt;
     return p;
@@ -210,64 +203,63 @@ nlohmann::json recording_json(const Judged& j, int teeth) {
   return out;
 }
 
-}  // namespace
+// The advice's spindle range (rad/s) and where it comes from: the last
+// recording's (advice_range), reported in summary.json.
+struct AdviceRange {
+  std::pair<double, double> rad_s{0.0, 0.0};
+  std::string basis;
+};
 
-CommandResult compute_listen(const io::Job& job, int threads, const Progress& progress) {
-  if (job.recordings.empty())
-    throw InputError("recording", 0,
-                     "robomill listen needs a recording: section (or recordings: [...]) naming "
-                     "the recorded signal");
-  const int teeth = listen_teeth(job);
-  const auto start = std::chrono::steady_clock::now();
+// One recording judged: read and analysed (its progress bar staged as
+// "listen i/n" when there are several), the advice for a chatter verdict,
+// and the model's prediction at the measured speed when there is a diagram.
+Judged judge_recording(const job::Job& job, std::size_t r, int teeth,
+                       const std::optional<analysis::StabilityDiagram>& diagram,
+                       const Progress& progress, AdviceRange& range) {
+  const io::RecordingSpec& spec = job.recordings[r];
+  Judged j;
+  j.spec = &spec;
+  j.commanded_rad_s = spec.spindle_rad_s ? *spec.spindle_rad_s : job.process->spindle_rad_s;
+  j.depth_m = spec.depth_m;
+  if (!j.depth_m && job.process && !job.recordings_listed)
+    j.depth_m = job.process->axial_depth_m;
+  const double commanded_hz = j.commanded_rad_s / kTwoPi;
+  monitoring::ListenOptions options = detector_options(job, spec, commanded_hz, teeth);
+  const std::string stage = job.recordings.size() > 1
+                                ? fmt::format("listen {}/{}", r + 1, job.recordings.size())
+                                : std::string("listen");
+  const auto bar = [&](double fraction) {
+    if (progress)
+      progress(stage, fraction);
+  };
+  options.progress = bar;
+  const std::unique_ptr<monitoring::SignalSource> source = io::open_recording(spec);
+  j.info = source->info();
+  j.analysis = monitoring::analyze_recording(*source, options);
+  bar(1.0);
+  range.rad_s = advice_range(job, j.commanded_rad_s, range.basis);
+  if (j.analysis.verdict == monitoring::Verdict::chatter && j.analysis.chatter_hz > 0.0)
+    j.advice = monitoring::suggest_spindle_speeds(
+        j.analysis.chatter_hz, teeth, range.rad_s.first / kTwoPi, range.rad_s.second / kTwoPi);
+  if (diagram)
+    j.model = predicted_at(diagram->primary(), j.analysis.spindle_hz_measured * kTwoPi);
+  return j;
+}
 
-  // The model's lobes, when the job describes the structure.
-  std::optional<CommandResult> lobes;
-  if (job.stability && job.tool && job.cutting && job.process)
-    lobes = compute_stability(job, threads);
-  const io::CsvTable* sld = lobes ? lobes->table("sld") : nullptr;
-
-  std::vector<Judged> judged;
-  judged.reserve(job.recordings.size());
-  std::string range_basis;
-  std::pair<double, double> range{0.0, 0.0};
-  for (std::size_t r = 0; r < job.recordings.size(); ++r) {
-    const io::RecordingSpec& spec = job.recordings[r];
-    Judged j;
-    j.spec = &spec;
-    j.commanded_rad_s = spec.spindle_rad_s ? *spec.spindle_rad_s : job.process->spindle_rad_s;
-    j.depth_m = spec.depth_m;
-    if (!j.depth_m && job.process && !job.recordings_listed)
-      j.depth_m = job.process->axial_depth_m;
-    const double commanded_hz = j.commanded_rad_s / kTwoPi;
-    monitoring::ListenOptions options = detector_options(job, spec, commanded_hz, teeth);
-    const std::string stage = job.recordings.size() > 1
-                                  ? fmt::format("listen {}/{}", r + 1, job.recordings.size())
-                                  : std::string("listen");
-    const auto bar = [&](double fraction) {
-      if (progress)
-        progress(stage, fraction);
-    };
-    options.progress = bar;
-    const std::unique_ptr<monitoring::SignalSource> source = io::open_recording(spec);
-    j.info = source->info();
-    j.analysis = monitoring::analyze_recording(*source, options);
-    bar(1.0);
-    range = advice_range(job, j.commanded_rad_s, range_basis);
-    if (j.analysis.verdict == monitoring::Verdict::chatter && j.analysis.chatter_hz > 0.0)
-      j.advice = monitoring::suggest_spindle_speeds(j.analysis.chatter_hz, teeth,
-                                                    range.first / kTwoPi, range.second / kTwoPi);
-    if (sld)
-      j.model = predicted_at(*sld, j.analysis.spindle_hz_measured * 60.0);
-    judged.push_back(std::move(j));
-  }
-
-  CommandResult result;
-  // spectrum.csv: every recording's Welch PSD with each bin's cause.
+// The PSD columns' name: the signal's unit when every recording has the same
+// kind, SI otherwise.
+std::string power_column(const std::vector<Judged>& judged) {
   bool same_kind = true;
   for (const Judged& j : judged)
     same_kind = same_kind && j.info.kind == judged.front().info.kind;
-  const std::string power =
-      same_kind ? psd_column(judged.front().info.kind) : std::string("psd_SI2_per_Hz");
+  return same_kind ? psd_column(judged.front().info.kind) : std::string("psd_SI2_per_Hz");
+}
+
+// spectrum.csv: every recording's Welch PSD with each bin's cause;
+// spectrogram.csv: its short-time spectra thinned to kSpectrogramBands bands
+// and each frame's chatter share.
+void add_spectrum_tables(const std::vector<Judged>& judged, const std::string& power,
+                         CommandResult& result) {
   io::CsvTable spectrum({"freq_hz", power, "cause", "recording"});
   io::CsvTable spectrogram({"t_s", "freq_hz", power, "chatter_fraction", "recording"});
   for (std::size_t r = 0; r < judged.size(); ++r) {
@@ -295,51 +287,49 @@ CommandResult compute_listen(const io::Job& job, int threads, const Progress& pr
   }
   result.tables.emplace_back("spectrum", std::move(spectrum));
   result.tables.emplace_back("spectrogram", std::move(spectrogram));
+}
 
-  nlohmann::json list = nlohmann::json::array();
-  for (const Judged& j : judged)
-    list.push_back(recording_json(j, teeth));
-  if (job.recordings_listed) {
-    io::CsvTable table({"recording", "file", "note", "spindle_rpm_commanded",
-                        "spindle_rpm_measured", "depth_mm", "chatter", "chatter_freq_hz",
-                        "chatter_energy_fraction", "onset_s", "recommended_spindle_rpm",
-                        "model_depth_limit_mm", "model_chatter_freq_hz", "reason"});
-    for (std::size_t r = 0; r < judged.size(); ++r) {
-      const Judged& j = judged[r];
-      const monitoring::RecordingAnalysis& a = j.analysis;
-      std::string reason = a.reason;
-      std::replace(reason.begin(), reason.end(), ',', ';');
-      std::string note = j.spec->note;
-      std::replace(note.begin(), note.end(), ',', ';');
-      const auto or_nan = [](bool has, double v) { return has ? v : std::nan(""); };
-      const auto cell = [](double v) -> io::CsvTable::Cell {
-        if (std::isfinite(v))
-          return v;
-        return std::string("");
-      };
-      table.add_cells(
-          {static_cast<double>(r + 1), j.spec->file.filename().string(), note,
-           j.commanded_rad_s * 60.0 / kTwoPi, a.spindle_hz_measured * 60.0,
-           cell(or_nan(j.depth_m.has_value(), j.depth_m.value_or(0.0) * 1e3)),
-           std::string(monitoring::verdict_name(a.verdict)),
-           cell(or_nan(a.verdict == monitoring::Verdict::chatter && a.chatter_hz > 0.0,
-                       a.chatter_hz)),
-           a.chatter_energy_fraction, cell(or_nan(a.onset_s.has_value(), a.onset_s.value_or(0.0))),
-           cell(or_nan(!j.advice.empty(),
-                       j.advice.empty() ? 0.0 : j.advice.front().spindle_hz * 60.0)),
-           cell(or_nan(j.model.has_value(), j.model ? j.model->depth_limit_m * 1e3 : 0.0)),
-           cell(or_nan(j.model.has_value(), j.model ? j.model->chatter_hz : 0.0)), reason});
-    }
-    result.tables.emplace_back("recordings", std::move(table));
+// recordings.csv (a job that lists its recordings): one row per recording.
+io::CsvTable recordings_table(const std::vector<Judged>& judged) {
+  io::CsvTable table({"recording", "file", "note", "spindle_rpm_commanded", "spindle_rpm_measured",
+                      "depth_mm", "chatter", "chatter_freq_hz", "chatter_energy_fraction",
+                      "onset_s", "recommended_spindle_rpm", "model_depth_limit_mm",
+                      "model_chatter_freq_hz", "reason"});
+  for (std::size_t r = 0; r < judged.size(); ++r) {
+    const Judged& j = judged[r];
+    const monitoring::RecordingAnalysis& a = j.analysis;
+    std::string reason = a.reason;
+    std::replace(reason.begin(), reason.end(), ',', ';');
+    std::string note = j.spec->note;
+    std::replace(note.begin(), note.end(), ',', ';');
+    const auto or_nan = [](bool has, double v) { return has ? v : std::nan(""); };
+    const auto cell = [](double v) -> io::CsvTable::Cell {
+      if (std::isfinite(v))
+        return v;
+      return std::string("");
+    };
+    table.add_cells(
+        {static_cast<double>(r + 1), j.spec->file.filename().string(), note,
+         j.commanded_rad_s * 60.0 / kTwoPi, a.spindle_hz_measured * 60.0,
+         cell(or_nan(j.depth_m.has_value(), j.depth_m.value_or(0.0) * 1e3)),
+         std::string(monitoring::verdict_name(a.verdict)),
+         cell(
+             or_nan(a.verdict == monitoring::Verdict::chatter && a.chatter_hz > 0.0, a.chatter_hz)),
+         a.chatter_energy_fraction, cell(or_nan(a.onset_s.has_value(), a.onset_s.value_or(0.0))),
+         cell(or_nan(!j.advice.empty(),
+                     j.advice.empty() ? 0.0 : j.advice.front().spindle_hz * 60.0)),
+         cell(or_nan(j.model.has_value(), j.model ? j.model->depth_limit_m * 1e3 : 0.0)),
+         cell(or_nan(j.model.has_value(), j.model ? j.model->chatter_hz : 0.0)), reason});
   }
-  if (lobes) {
-    result.tables.emplace_back("sld", *lobes->table("sld"));
-  }
+  return table;
+}
 
-  const double elapsed_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  // summary.json: the first (or only) recording's keys at the top level, as
-  // DESIGN.md names them, and every recording under "recordings".
+// summary.json: the first (or only) recording's keys at the top level, as
+// DESIGN.md names them, and every recording under "recordings".
+nlohmann::json listen_summary(const job::Job& job, const std::vector<Judged>& judged,
+                              const nlohmann::json& list, const AdviceRange& range,
+                              const std::string& power, const std::optional<CommandResult>& lobes,
+                              double elapsed_s) {
   nlohmann::json summary = {{"command", "listen"}};
   for (const auto& [key, value] : list.front().items())
     summary[key] = value;
@@ -353,8 +343,9 @@ CommandResult compute_listen(const io::Job& job, int threads, const Progress& pr
   summary["recordings_chatter"] = chattering;
   summary["recordings_stable"] = stable;
   summary["recordings_unknown"] = unknown;
-  summary["advice_spindle_range_rpm"] = {range.first * 60.0 / kTwoPi, range.second * 60.0 / kTwoPi};
-  summary["advice_spindle_range_basis"] = range_basis;
+  summary["advice_spindle_range_rpm"] = {range.rad_s.first * 60.0 / kTwoPi,
+                                         range.rad_s.second * 60.0 / kTwoPi};
+  summary["advice_spindle_range_basis"] = range.basis;
   summary["threshold"] = job.listen ? job.listen->chatter_energy_threshold : 0.5;
   summary["psd_column"] = power;
   summary["model"] =
@@ -362,8 +353,11 @@ CommandResult compute_listen(const io::Job& job, int threads, const Progress& pr
   if (lobes)
     summary["model_method"] = lobes->summary.value("method", "");
   summary["elapsed_s"] = elapsed_s;
-  result.summary = std::move(summary);
+  return summary;
+}
 
+// The command's message: one line per recording with its verdict.
+std::string listen_message(const std::vector<Judged>& judged) {
   std::string message;
   for (const Judged& j : judged) {
     const monitoring::RecordingAnalysis& a = j.analysis;
@@ -388,7 +382,50 @@ CommandResult compute_listen(const io::Job& job, int threads, const Progress& pr
                            j.spec->file.filename().string(), a.duration_s,
                            a.spindle_hz_measured * 60.0, verdict);
   }
-  result.message = std::move(message);
+  return message;
+}
+
+}  // namespace
+
+CommandResult compute_listen(const job::Job& job, int threads, const Progress& progress) {
+  if (job.recordings.empty())
+    throw InputError("recording", 0,
+                     "robomill listen needs a recording: section (or recordings: [...]) naming "
+                     "the recorded signal");
+  const int teeth = listen_teeth(job);
+  const auto start = std::chrono::steady_clock::now();
+
+  // The model's lobes, when the job describes the structure.
+  std::optional<analysis::StabilityDiagram> diagram;
+  std::optional<CommandResult> lobes;  // what `stability` writes: sld.csv and its method
+  if (job.stability && job.tool && job.cutting && job.process) {
+    diagram = analysis::stability_diagram(job, threads);
+    lobes = stability_result(job, *diagram);
+  }
+
+  std::vector<Judged> judged;
+  judged.reserve(job.recordings.size());
+  AdviceRange range;
+  for (std::size_t r = 0; r < job.recordings.size(); ++r)
+    judged.push_back(judge_recording(job, r, teeth, diagram, progress, range));
+
+  CommandResult result;
+  const std::string power = power_column(judged);
+  add_spectrum_tables(judged, power, result);
+
+  nlohmann::json list = nlohmann::json::array();
+  for (const Judged& j : judged)
+    list.push_back(recording_json(j, teeth));
+  if (job.recordings_listed)
+    result.tables.emplace_back("recordings", recordings_table(judged));
+  if (lobes) {
+    result.tables.emplace_back("sld", *lobes->table("sld"));
+  }
+
+  const double elapsed_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.summary = listen_summary(job, judged, list, range, power, lobes, elapsed_s);
+  result.message = listen_message(judged);
   return result;
 }
 

@@ -81,12 +81,88 @@ void add_path_rows(io::CsvTable& table, int pose_index, const robot::RobotModel&
   }
 }
 
+// No pose within the bounds reaches every path point: says so, with why the
+// centre of the bounds does not.
+[[noreturn]] void throw_no_reachable_pose(const robot::RobotModel& robot,
+                                          const planning::PlacementProblem& problem,
+                                          const job::OptimizeSettings& settings,
+                                          std::size_t evaluations, int threads) {
+  planning::WorkpiecePose centre;
+  centre.x_m = 0.5 * (settings.bounds.lower.x_m + settings.bounds.upper.x_m);
+  centre.y_m = 0.5 * (settings.bounds.lower.y_m + settings.bounds.upper.y_m);
+  centre.theta_rad = 0.5 * (settings.bounds.lower.theta_rad + settings.bounds.upper.theta_rad);
+  const planning::PathPerformance at_centre =
+      planning::evaluate_path(robot, problem, centre, threads, true);
+  throw InputError("optimize.bounds", 0,
+                   fmt::format("no pose within the bounds reaches every path point ({} poses "
+                               "tried); at the centre {}: {}",
+                               evaluations, pose_text(centre), unreachable_text(robot, at_centre)));
+}
+
+// summary.json's time_domain_check: the harmonic offset of the best pose's
+// first point against a time-domain integration.
+nlohmann::json time_domain_check(const robot::RobotModel& robot,
+                                 const planning::PlacementProblem& problem,
+                                 const cutting::MillingForceModel& force,
+                                 const job::OptimizeSettings& settings,
+                                 const planning::PathPerformance& best) {
+  const planning::PointPerformance& p = best.points.front();
+  const planning::PostureDynamics dynamics = planning::posture_dynamics(robot, p.q);
+  int periods = 0;
+  const planning::OffsetResponse time_domain = planning::steady_state_offset_time_domain(
+      dynamics, p.placed.tool_to_cell, force, problem.force.period_s, 4 * settings.samples, 2000,
+      1e-7, &periods, settings.measure == planning::OffsetMeasure::startup);
+  const double harmonic = p.offset.measure(settings.measure);
+  const double integrated = time_domain.measure(settings.measure);
+  return {{"point", 1},
+          {"harmonic_mm", harmonic * 1e3},
+          {"time_domain_mm", integrated * 1e3},
+          {"relative_difference", (harmonic - integrated) / integrated},
+          {"periods", periods}};
+}
+
+// evaluations.csv: every pose the search evaluated.
+io::CsvTable evaluations_table(const planning::PoseOptimizationResult& result) {
+  io::CsvTable evaluations(
+      {"evaluation", "phase", "x_mm", "y_mm", "theta_deg", "reachable", "dm_mm", "objective_mm"});
+  for (std::size_t i = 0; i < result.evaluations.size(); ++i) {
+    const planning::PoseEvaluation& e = result.evaluations[i];
+    evaluations.add_row({static_cast<double>(i + 1), static_cast<double>(e.phase), e.pose.x_m * 1e3,
+                         e.pose.y_m * 1e3, e.pose.theta_rad * kDegPerRad, e.reachable ? 1.0 : 0.0,
+                         e.dm_m * 1e3, e.objective_m * 1e3});
+  }
+  return evaluations;
+}
+
+// path.csv's columns (add_path_rows' cells).
+std::vector<std::string> path_columns(int dof) {
+  std::vector<std::string> columns = {"pose",         "point",     "x_mm",    "y_mm",
+                                      "z_mm",         "reachable", "d_mm",    "peak_mm",
+                                      "vibration_mm", "rms_mm",    "mean_mm", "startup_mm"};
+  for (int j = 0; j < dof; ++j)
+    columns.push_back(fmt::format("q{}_deg", j + 1));
+  for (int j = 0; j < dof; ++j)
+    columns.push_back(fmt::format("fn{}_hz", j + 1));
+  return columns;
+}
+
+// landscape.csv: the grid of poses over the bounds.
+io::CsvTable landscape_csv(const std::vector<planning::PathPerformance>& landscape) {
+  io::CsvTable landscape_table({"x_mm", "y_mm", "theta_deg", "reachable", "dm_mm", "max_mm"});
+  for (const planning::PathPerformance& cell : landscape) {
+    landscape_table.add_row({cell.pose.x_m * 1e3, cell.pose.y_m * 1e3,
+                             cell.pose.theta_rad * kDegPerRad, cell.reachable() ? 1.0 : 0.0,
+                             cell.dm_m * 1e3, cell.max_m * 1e3});
+  }
+  return landscape_table;
+}
+
 }  // namespace
 
-CommandResult compute_optimize(const io::Job& job, int threads) {
+CommandResult compute_optimize(const job::Job& job, int threads) {
   if (!job.optimize)
     throw InputError("optimize", 0, "required: the optimize: section (bounds of the pose search)");
-  const io::OptimizeSettings& settings = *job.optimize;
+  const job::OptimizeSettings& settings = *job.optimize;
   const auto start = std::chrono::steady_clock::now();
 
   const robot::RobotModel robot(job.robot->description);
@@ -126,38 +202,14 @@ CommandResult compute_optimize(const io::Job& job, int threads) {
   search.threads = threads;
   const planning::PoseOptimizationResult result =
       planning::optimize_workpiece_pose(robot, problem, settings.bounds, search);
-  if (!result.found) {
-    planning::WorkpiecePose centre;
-    centre.x_m = 0.5 * (settings.bounds.lower.x_m + settings.bounds.upper.x_m);
-    centre.y_m = 0.5 * (settings.bounds.lower.y_m + settings.bounds.upper.y_m);
-    centre.theta_rad = 0.5 * (settings.bounds.lower.theta_rad + settings.bounds.upper.theta_rad);
-    const planning::PathPerformance at_centre =
-        planning::evaluate_path(robot, problem, centre, threads, true);
-    throw InputError("optimize.bounds", 0,
-                     fmt::format("no pose within the bounds reaches every path point ({} poses "
-                                 "tried); at the centre {}: {}",
-                                 result.evaluations.size(), pose_text(centre),
-                                 unreachable_text(robot, at_centre)));
-  }
+  if (!result.found)
+    throw_no_reachable_pose(robot, problem, settings, result.evaluations.size(), threads);
   const planning::PathPerformance best =
       planning::evaluate_path(robot, problem, result.best, threads);
 
   nlohmann::json check;
-  if (settings.check_time_domain) {
-    const planning::PointPerformance& p = best.points.front();
-    const planning::PostureDynamics dynamics = planning::posture_dynamics(robot, p.q);
-    int periods = 0;
-    const planning::OffsetResponse time_domain = planning::steady_state_offset_time_domain(
-        dynamics, p.placed.tool_to_cell, force, problem.force.period_s, 4 * settings.samples, 2000,
-        1e-7, &periods, settings.measure == planning::OffsetMeasure::startup);
-    const double harmonic = p.offset.measure(settings.measure);
-    const double integrated = time_domain.measure(settings.measure);
-    check = {{"point", 1},
-             {"harmonic_mm", harmonic * 1e3},
-             {"time_domain_mm", integrated * 1e3},
-             {"relative_difference", (harmonic - integrated) / integrated},
-             {"periods", periods}};
-  }
+  if (settings.check_time_domain)
+    check = time_domain_check(robot, problem, force, settings, best);
 
   // Landscape (004 Figure 7d): grid over the bounds for each θp of the job.
   std::vector<planning::PathPerformance> landscape;
@@ -173,22 +225,8 @@ CommandResult compute_optimize(const io::Job& job, int threads) {
   const double elapsed_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-  io::CsvTable evaluations(
-      {"evaluation", "phase", "x_mm", "y_mm", "theta_deg", "reachable", "dm_mm", "objective_mm"});
-  for (std::size_t i = 0; i < result.evaluations.size(); ++i) {
-    const planning::PoseEvaluation& e = result.evaluations[i];
-    evaluations.add_row({static_cast<double>(i + 1), static_cast<double>(e.phase), e.pose.x_m * 1e3,
-                         e.pose.y_m * 1e3, e.pose.theta_rad * kDegPerRad, e.reachable ? 1.0 : 0.0,
-                         e.dm_m * 1e3, e.objective_m * 1e3});
-  }
-  std::vector<std::string> path_columns = {"pose",         "point",     "x_mm",    "y_mm",
-                                           "z_mm",         "reachable", "d_mm",    "peak_mm",
-                                           "vibration_mm", "rms_mm",    "mean_mm", "startup_mm"};
-  for (int j = 0; j < robot.dof(); ++j)
-    path_columns.push_back(fmt::format("q{}_deg", j + 1));
-  for (int j = 0; j < robot.dof(); ++j)
-    path_columns.push_back(fmt::format("fn{}_hz", j + 1));
-  io::CsvTable path_table(path_columns);
+  io::CsvTable evaluations = evaluations_table(result);
+  io::CsvTable path_table(path_columns(robot.dof()));
   add_path_rows(path_table, 0, robot, best, settings.measure);
   nlohmann::json poses = nlohmann::json::array();
   for (std::size_t i = 0; i < listed.size(); ++i) {
@@ -200,12 +238,7 @@ CommandResult compute_optimize(const io::Job& job, int threads) {
     entry["max_mm"] = path.max_m * 1e3;
     poses.push_back(entry);
   }
-  io::CsvTable landscape_table({"x_mm", "y_mm", "theta_deg", "reachable", "dm_mm", "max_mm"});
-  for (const planning::PathPerformance& cell : landscape) {
-    landscape_table.add_row({cell.pose.x_m * 1e3, cell.pose.y_m * 1e3,
-                             cell.pose.theta_rad * kDegPerRad, cell.reachable() ? 1.0 : 0.0,
-                             cell.dm_m * 1e3, cell.max_m * 1e3});
-  }
+  io::CsvTable landscape_table = landscape_csv(landscape);
 
   nlohmann::json summary = {{"command", "optimize"},
                             {"job", job.source.string()},

@@ -62,8 +62,8 @@ double directional_compliance(const Eigen::Matrix3d& c, const Eigen::Vector3d& d
 }
 
 std::vector<MapPoint> workspace_map(const robot::RobotModel& model,
-                                    const io::RobotSettings::Map& grid, const Eigen::VectorXd& seed,
-                                    bool has_mass, int threads) {
+                                    const job::RobotSettings::Map& grid,
+                                    const Eigen::VectorXd& seed, bool has_mass, int threads) {
   const int nx = grid.counts[0], ny = grid.counts[1], nz = grid.counts[2];
   std::vector<MapPoint> points(static_cast<std::size_t>(nx) * ny * nz);
   auto coordinate = [](double from, double to, int count, int i) {
@@ -106,13 +106,10 @@ std::vector<MapPoint> workspace_map(const robot::RobotModel& model,
   return points;
 }
 
-}  // namespace
-
-CommandResult compute_robot(const io::Job& job, int threads) {
-  io::require(job, {io::Section::robot});
-  const io::RobotSettings& settings = *job.robot;
-  const auto start = std::chrono::steady_clock::now();
-  const robot::RobotModel model(settings.description);
+// robot.posture as joint angles, checked: one angle per joint, each within
+// its joint's range.
+Eigen::VectorXd checked_posture(const job::RobotSettings& settings,
+                                const robot::RobotModel& model) {
   if (settings.posture_rad.empty()) {
     throw InputError(
         "robot.posture", 0,
@@ -131,6 +128,164 @@ CommandResult compute_robot(const io::Job& job, int threads) {
       }
     }
   }
+  return q;
+}
+
+// summary.json's principal_stiffness, or why there is none.
+nlohmann::json principal_stiffness_json(const robot::RobotModel& model, const Eigen::VectorXd& q) {
+  nlohmann::json principal;
+  try {
+    const robot::PrincipalStiffness p = robot::principal_stiffness(model, q);
+    principal = {{"stiffness_N_per_m", vector_json(p.stiffness_n_per_m)},
+                 {"directions", matrix_json(p.directions)},
+                 {"condition_number", p.condition_number}};
+  } catch (const std::invalid_argument& e) {
+    principal = {{"note", e.what()}};
+  }
+  return principal;
+}
+
+// frf.csv's rows: the tool-tip receptance (cell frame) at `points`
+// frequencies from `from_hz` to `to_hz`.
+void add_frf_rows(io::CsvTable& frf, const robot::RobotModel& model, const Eigen::VectorXd& q,
+                  double from_hz, double to_hz, int points) {
+  for (int i = 0; i < points; ++i) {
+    const double f = from_hz + (to_hz - from_hz) * i / (points - 1);
+    const Eigen::Matrix3cd h = robot::tool_tip_receptance(model, q, 2.0 * std::numbers::pi * f);
+    frf.add_row({f, h(0, 0).real(), h(0, 0).imag(), h(1, 1).real(), h(1, 1).imag(), h(2, 2).real(),
+                 h(2, 2).imag(), h(0, 1).real(), h(0, 1).imag(), h(0, 2).real(), h(0, 2).imag(),
+                 h(1, 2).real(), h(1, 2).imag()});
+  }
+}
+
+// modes.csv's rows: each mode's frequency, damping and tool-tip shape.
+void add_mode_rows(io::CsvTable& modes_table, const robot::RobotModes& modes) {
+  for (Eigen::Index i = 0; i < modes.natural_frequencies_hz.size(); ++i) {
+    modes_table.add_row({static_cast<double>(i + 1), modes.natural_frequencies_hz[i],
+                         modes.damping_ratios[i], modes.tip_shapes(0, i), modes.tip_shapes(1, i),
+                         modes.tip_shapes(2, i)});
+  }
+}
+
+// summary.json's modal_table_tool_frame.
+nlohmann::json modal_table_json(const std::vector<robot::DirectionalModalParameters>& directional) {
+  nlohmann::json modal_table = nlohmann::json::array();
+  for (const auto& m : directional) {
+    modal_table.push_back({{"mode", m.mode + 1},
+                           {"direction", std::string(1, "xyz"[m.axis])},
+                           {"fn_hz", m.natural_frequency_hz},
+                           {"zeta", m.damping_ratio},
+                           {"k_N_per_m", m.stiffness_n_per_m},
+                           {"m_kg", m.mass_kg}});
+  }
+  return modal_table;
+}
+
+// 002 §2 (Eq 8-23): the reduced tip model, 6-D where the compliance is
+// invertible (six joints away from singularities), else translational 3-D;
+// its frequencies against the full joint-space eigenproblem.
+nlohmann::json reduced_model_json(const robot::RobotModel& model, const Eigen::VectorXd& q,
+                                  const Eigen::Matrix<double, 6, Eigen::Dynamic>& jacobian) {
+  nlohmann::json reduced;
+  const Eigen::MatrixXd m = robot::mass_matrix(model, q);
+  const Eigen::VectorXd kq = model.joint_stiffness();
+  for (const int dimension : {6, 3}) {
+    if (dimension == 6 && model.dof() < 6)
+      continue;
+    try {
+      const Eigen::MatrixXd j =
+          dimension == 6 ? Eigen::MatrixXd(jacobian) : robot::linear_jacobian(jacobian);
+      const robot::ReducedModel r = robot::reduce_model(j, kq, m);
+      const robot::FrequencyComparison c = robot::compare_with_full_model(r, kq, m);
+      reduced = {{"dimension", dimension},
+                 {"mass", matrix_json(r.mass)},
+                 {"stiffness", matrix_json(r.stiffness)},
+                 {"natural_frequencies_hz", vector_json(c.reduced_hz)},
+                 {"full_natural_frequencies_hz", vector_json(c.full_hz)},
+                 {"relative_difference", vector_json(c.relative_difference)}};
+      break;
+    } catch (const std::invalid_argument& e) {
+      reduced = {{"note", e.what()}};
+    }
+  }
+  return reduced;
+}
+
+// map.csv: every grid point, its figures and (reachable) joint angles.
+io::CsvTable map_table(const std::vector<MapPoint>& map, int dof) {
+  std::vector<std::string> columns = {"x_mm",
+                                      "y_mm",
+                                      "z_mm",
+                                      "reachable",
+                                      "lowest_fn_hz",
+                                      "compliance_feed_um_per_N",
+                                      "compliance_normal_um_per_N",
+                                      "compliance_axial_um_per_N",
+                                      "condition_number"};
+  for (int j = 0; j < dof; ++j)
+    columns.push_back(fmt::format("q{}_deg", j + 1));
+  io::CsvTable table(columns);
+  for (const MapPoint& p : map) {
+    std::vector<double> row = {p.position_m.x() * 1e3,
+                               p.position_m.y() * 1e3,
+                               p.position_m.z() * 1e3,
+                               p.reachable ? 1.0 : 0.0,
+                               p.lowest_frequency_hz,
+                               p.compliance_feed_m_per_n * 1e6,
+                               p.compliance_normal_m_per_n * 1e6,
+                               p.compliance_axial_m_per_n * 1e6,
+                               p.condition_number};
+    for (int j = 0; j < dof; ++j)
+      row.push_back(p.reachable ? p.q[j] * kDegPerRad : 0.0);
+    table.add_row(row);
+  }
+  return table;
+}
+
+// summary.json's map: the points, the reachable ones and the range of their
+// lowest natural frequency.
+nlohmann::json map_summary(const std::vector<MapPoint>& map) {
+  int reachable = 0;
+  double lowest = INFINITY, highest = 0.0;
+  for (const MapPoint& p : map) {
+    if (p.reachable) {
+      ++reachable;
+      lowest = std::min(lowest, p.lowest_frequency_hz);
+      highest = std::max(highest, p.lowest_frequency_hz);
+    }
+  }
+  nlohmann::json summary = {{"points", map.size()}, {"reachable", reachable}};
+  if (reachable > 0) {
+    summary["lowest_fn_hz_min"] = lowest;
+    summary["lowest_fn_hz_max"] = highest;
+  }
+  return summary;
+}
+
+// The message's first line: the tool's position and the natural frequencies.
+std::string robot_message(const robot::RobotModel& model, const Eigen::Isometry3d& pose,
+                          const std::optional<robot::RobotModes>& modes) {
+  std::string message = fmt::format("robot {} ({} joints): tool at [{:.1f}, {:.1f}, {:.1f}] mm",
+                                    model.name(), model.dof(), pose.translation().x() * 1e3,
+                                    pose.translation().y() * 1e3, pose.translation().z() * 1e3);
+  if (modes) {
+    message += "; natural frequencies";
+    for (Eigen::Index i = 0; i < modes->natural_frequencies_hz.size(); ++i)
+      message += fmt::format(" {:.2f}", modes->natural_frequencies_hz[i]);
+    message += " Hz";
+  }
+  message += '\n';
+  return message;
+}
+
+}  // namespace
+
+CommandResult compute_robot(const job::Job& job, int threads) {
+  job::require(job, {job::Section::robot});
+  const job::RobotSettings& settings = *job.robot;
+  const auto start = std::chrono::steady_clock::now();
+  const robot::RobotModel model(settings.description);
+  const Eigen::VectorXd q = checked_posture(settings, model);
 
   const Eigen::Isometry3d pose = robot::tool_pose(model, q);
   const Eigen::Matrix<double, 6, Eigen::Dynamic> jacobian = robot::tool_jacobian(model, q);
@@ -149,15 +304,7 @@ CommandResult compute_robot(const io::Job& job, int threads) {
     directional = robot::directional_modal_parameters(model, q, pose.linear().transpose());
   }
 
-  nlohmann::json principal;
-  try {
-    const robot::PrincipalStiffness p = robot::principal_stiffness(model, q);
-    principal = {{"stiffness_N_per_m", vector_json(p.stiffness_n_per_m)},
-                 {"directions", matrix_json(p.directions)},
-                 {"condition_number", p.condition_number}};
-  } catch (const std::invalid_argument& e) {
-    principal = {{"note", e.what()}};
-  }
+  const nlohmann::json principal = principal_stiffness_json(model, q);
 
   // Tool-tip FRF (cell frame) over the job's range or 0.5-2 × the modes.
   io::CsvTable frf({"freq_hz", "hxx_re", "hxx_im", "hyy_re", "hyy_im", "hzz_re", "hzz_im", "hxy_re",
@@ -171,56 +318,14 @@ CommandResult compute_robot(const io::Job& job, int threads) {
                                      : 2.0 * modes->natural_frequencies_hz.maxCoeff();
     if (!(to_hz > from_hz))
       throw InputError("robot.frf.to", 0, fmt::format("must exceed from ({:g} Hz)", from_hz));
-    for (int i = 0; i < settings.frf_points; ++i) {
-      const double f = from_hz + (to_hz - from_hz) * i / (settings.frf_points - 1);
-      const Eigen::Matrix3cd h = robot::tool_tip_receptance(model, q, 2.0 * std::numbers::pi * f);
-      frf.add_row({f, h(0, 0).real(), h(0, 0).imag(), h(1, 1).real(), h(1, 1).imag(),
-                   h(2, 2).real(), h(2, 2).imag(), h(0, 1).real(), h(0, 1).imag(), h(0, 2).real(),
-                   h(0, 2).imag(), h(1, 2).real(), h(1, 2).imag()});
-    }
-    for (Eigen::Index i = 0; i < modes->natural_frequencies_hz.size(); ++i) {
-      modes_table.add_row({static_cast<double>(i + 1), modes->natural_frequencies_hz[i],
-                           modes->damping_ratios[i], modes->tip_shapes(0, i),
-                           modes->tip_shapes(1, i), modes->tip_shapes(2, i)});
-    }
+    add_frf_rows(frf, model, q, from_hz, to_hz, settings.frf_points);
+    add_mode_rows(modes_table, *modes);
   }
-  nlohmann::json modal_table = nlohmann::json::array();
-  for (const auto& m : directional) {
-    modal_table.push_back({{"mode", m.mode + 1},
-                           {"direction", std::string(1, "xyz"[m.axis])},
-                           {"fn_hz", m.natural_frequency_hz},
-                           {"zeta", m.damping_ratio},
-                           {"k_N_per_m", m.stiffness_n_per_m},
-                           {"m_kg", m.mass_kg}});
-  }
+  const nlohmann::json modal_table = modal_table_json(directional);
 
-  // 002 §2 (Eq 8-23): the reduced tip model, 6-D where the compliance is
-  // invertible (six joints away from singularities), else translational 3-D;
-  // its frequencies against the full joint-space eigenproblem.
   nlohmann::json reduced;
-  if (modes) {
-    const Eigen::MatrixXd m = robot::mass_matrix(model, q);
-    const Eigen::VectorXd kq = model.joint_stiffness();
-    for (const int dimension : {6, 3}) {
-      if (dimension == 6 && model.dof() < 6)
-        continue;
-      try {
-        const Eigen::MatrixXd j =
-            dimension == 6 ? Eigen::MatrixXd(jacobian) : robot::linear_jacobian(jacobian);
-        const robot::ReducedModel r = robot::reduce_model(j, kq, m);
-        const robot::FrequencyComparison c = robot::compare_with_full_model(r, kq, m);
-        reduced = {{"dimension", dimension},
-                   {"mass", matrix_json(r.mass)},
-                   {"stiffness", matrix_json(r.stiffness)},
-                   {"natural_frequencies_hz", vector_json(c.reduced_hz)},
-                   {"full_natural_frequencies_hz", vector_json(c.full_hz)},
-                   {"relative_difference", vector_json(c.relative_difference)}};
-        break;
-      } catch (const std::invalid_argument& e) {
-        reduced = {{"note", e.what()}};
-      }
-    }
-  }
+  if (modes)
+    reduced = reduced_model_json(model, q, jacobian);
 
   std::optional<std::vector<MapPoint>> map;
   if (settings.map)
@@ -259,59 +364,13 @@ CommandResult compute_robot(const io::Job& job, int threads) {
     result.tables.emplace_back("modes", std::move(modes_table));
   }
   if (map) {
-    std::vector<std::string> columns = {"x_mm",
-                                        "y_mm",
-                                        "z_mm",
-                                        "reachable",
-                                        "lowest_fn_hz",
-                                        "compliance_feed_um_per_N",
-                                        "compliance_normal_um_per_N",
-                                        "compliance_axial_um_per_N",
-                                        "condition_number"};
-    for (int j = 0; j < model.dof(); ++j)
-      columns.push_back(fmt::format("q{}_deg", j + 1));
-    io::CsvTable table(columns);
-    int reachable = 0;
-    double lowest = INFINITY, highest = 0.0;
-    for (const MapPoint& p : *map) {
-      std::vector<double> row = {p.position_m.x() * 1e3,
-                                 p.position_m.y() * 1e3,
-                                 p.position_m.z() * 1e3,
-                                 p.reachable ? 1.0 : 0.0,
-                                 p.lowest_frequency_hz,
-                                 p.compliance_feed_m_per_n * 1e6,
-                                 p.compliance_normal_m_per_n * 1e6,
-                                 p.compliance_axial_m_per_n * 1e6,
-                                 p.condition_number};
-      for (int j = 0; j < model.dof(); ++j)
-        row.push_back(p.reachable ? p.q[j] * kDegPerRad : 0.0);
-      table.add_row(row);
-      if (p.reachable) {
-        ++reachable;
-        lowest = std::min(lowest, p.lowest_frequency_hz);
-        highest = std::max(highest, p.lowest_frequency_hz);
-      }
-    }
-    summary["map"] = {{"points", map->size()}, {"reachable", reachable}};
-    if (reachable > 0) {
-      summary["map"]["lowest_fn_hz_min"] = lowest;
-      summary["map"]["lowest_fn_hz_max"] = highest;
-    }
-    result.tables.emplace_back("map", std::move(table));
+    summary["map"] = map_summary(*map);
+    result.tables.emplace_back("map", map_table(*map, model.dof()));
   }
   result.summary = std::move(summary);
 
   std::string& message = result.message;
-  message = fmt::format("robot {} ({} joints): tool at [{:.1f}, {:.1f}, {:.1f}] mm", model.name(),
-                        model.dof(), pose.translation().x() * 1e3, pose.translation().y() * 1e3,
-                        pose.translation().z() * 1e3);
-  if (modes) {
-    message += "; natural frequencies";
-    for (Eigen::Index i = 0; i < modes->natural_frequencies_hz.size(); ++i)
-      message += fmt::format(" {:.2f}", modes->natural_frequencies_hz[i]);
-    message += " Hz";
-  }
-  message += '\n';
+  message = robot_message(model, pose, modes);
   if (map) {
     message += fmt::format("  map: {} of {} points reachable\n",
                            result.summary["map"]["reachable"].get<int>(), map->size());

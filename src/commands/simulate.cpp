@@ -14,12 +14,12 @@
 #include <nlohmann/json.hpp>
 #include <numbers>
 
+#include "robomill/analysis/structure.hpp"
 #include "robomill/commands/commands.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/cutting/engagement.hpp"
 #include "robomill/cutting/milling_forces.hpp"
 #include "robomill/io/csv.hpp"
-#include "robomill/io/structure.hpp"
 #include "robomill/io/summary.hpp"
 #include "robomill/robot/joint_dynamics.hpp"
 #include "robomill/robot/kinematics.hpp"
@@ -38,7 +38,7 @@ constexpr double kTwoPi = 2.0 * std::numbers::pi;
 /// mass-normalized modes (Mr, Kr, Dr at robot.posture), their translational
 /// part rotated into the tool frame, ζ from the robot's joint damping or
 /// simulation.damping_ratio where the robot has none.
-dynamics::ModalModel reduced_modes(const io::Job& job, const io::SimulationSettings& s) {
+dynamics::ModalModel reduced_modes(const job::Job& job, const job::SimulationSettings& s) {
   if (job.robot->posture_rad.empty())
     throw InputError("robot.posture", 0, "required with simulation.model: reduced6d");
   try {
@@ -83,21 +83,21 @@ dynamics::ModalModel reduced_modes(const io::Job& job, const io::SimulationSetti
   }
 }
 
-simulation::LinearStructure structure_of(const io::Job& job, const io::SimulationSettings& s) {
+simulation::LinearStructure structure_of(const job::Job& job, const job::SimulationSettings& s) {
   switch (s.model) {
-    case io::SimulationSettings::Model::rigid:
+    case job::SimulationSettings::Model::rigid:
       return simulation::rigid_structure();
-    case io::SimulationSettings::Model::fixation:
+    case job::SimulationSettings::Model::fixation:
       return simulation::fixation_structure(s.mass_kg, s.damping_n_s_per_m, s.stiffness_n_per_m);
-    case io::SimulationSettings::Model::reduced6d: {
+    case job::SimulationSettings::Model::reduced6d: {
       simulation::LinearStructure structure = simulation::modal_structure(reduced_modes(job, s));
       structure.description = "reduced robot model (002 Eq 23), " + structure.description;
       return structure;
     }
-    case io::SimulationSettings::Model::modes:
+    case job::SimulationSettings::Model::modes:
       break;
   }
-  return simulation::modal_structure(io::structure_modes(job));
+  return simulation::modal_structure(analysis::structure_modes(job));
 }
 
 std::string field_of(const std::string& key) {
@@ -109,7 +109,7 @@ std::string field_of(const std::string& key) {
 /// the metrics. Each names the field and the value that would work. Returns
 /// the steps per tooth period to use: the job's, or, when the job does not
 /// set them, the default raised to what the structure and the cut need.
-int check_settings(const io::Job& job, const io::SimulationSettings& s,
+int check_settings(const job::Job& job, const job::SimulationSettings& s,
                    const simulation::LinearStructure& structure, const tool::Tool& cutter) {
   const cutting::MillingProcess& process = *job.process;
   const int teeth = cutter.teeth();
@@ -221,13 +221,13 @@ nlohmann::json per_axis(const simulation::ResponseMetrics& m, double scale,
 
 }  // namespace
 
-CommandResult compute_simulate(const io::Job& job) {
-  io::require(job, {io::Section::tool, io::Section::cutting, io::Section::process});
+CommandResult compute_simulate(const job::Job& job) {
+  job::require(job, {job::Section::tool, job::Section::cutting, job::Section::process});
   if (!job.simulation)
     throw InputError("simulation", 0,
                      "required: the simulation: section (duration or revolutions, steps_per_tooth, "
                      "model)");
-  const io::SimulationSettings& s = *job.simulation;
+  const job::SimulationSettings& s = *job.simulation;
   const auto start = std::chrono::steady_clock::now();
   const tool::Tool cutter(*job.tool);
   const simulation::LinearStructure structure = structure_of(job, s);

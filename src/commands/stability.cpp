@@ -19,7 +19,7 @@ namespace robomill::commands {
 namespace {
 
 constexpr double kRpmPerRadS = 60.0 / (2.0 * std::numbers::pi);
-using Settings = io::StabilitySettings;
+using Settings = job::StabilitySettings;
 using analysis::StabilityLimit;
 
 const char* method_name(Settings::Method method) {
@@ -56,7 +56,7 @@ io::CsvTable limit_table(const std::vector<StabilityLimit>& limits, bool with_mo
 nlohmann::json experiments_json(const analysis::ExperimentComparison& comparison) {
   nlohmann::json tests = nlohmann::json::array();
   for (const analysis::ExperimentCheck& check : comparison.tests) {
-    const io::Experiment& e = check.experiment;
+    const job::Experiment& e = check.experiment;
     nlohmann::json entry = {{"spindle_rpm", e.spindle_rad_s * kRpmPerRadS},
                             {"depth_mm", e.axial_depth_m * 1e3},
                             {"observed_chatter", e.chatter}};
@@ -116,8 +116,11 @@ nlohmann::json deformation_summary(const analysis::StabilityDiagram& diagram) {
 
 }  // namespace
 
-CommandResult compute_stability(const io::Job& job, int threads) {
-  const analysis::StabilityDiagram diagram = analysis::stability_diagram(job, threads);
+CommandResult compute_stability(const job::Job& job, int threads) {
+  return stability_result(job, analysis::stability_diagram(job, threads));
+}
+
+CommandResult stability_result(const job::Job& job, const analysis::StabilityDiagram& diagram) {
   const Settings& settings = *job.stability;
   const bool want_coupled = settings.modes != Settings::Modes::envelope;
   const bool want_envelope = settings.modes != Settings::Modes::coupled;
@@ -139,7 +142,7 @@ CommandResult compute_stability(const io::Job& job, int threads) {
       {"modes", settings.modes == Settings::Modes::coupled    ? "coupled"
                 : settings.modes == Settings::Modes::envelope ? "envelope"
                                                               : "both"},
-      {"dynamics", io::dynamics_source_name(job.dynamics_source)},
+      {"dynamics", job::dynamics_source_name(job.dynamics_source)},
       {"mode_count", modes ? modes->size() : 0},
       {"process_damping", settings.process_damping == Settings::Damping::none ? "none"
                           : settings.process_damping == Settings::Damping::energy_balance
@@ -164,7 +167,7 @@ CommandResult compute_stability(const io::Job& job, int threads) {
   }
   if (job.posture_library) {
     // 001 Eq 16-18: where the table was interpolated and with what weights.
-    const io::PostureLibrary& library = *job.posture_library;
+    const job::PostureLibrary& library = *job.posture_library;
     nlohmann::json query = nlohmann::json::array(), weights = nlohmann::json::array();
     for (Eigen::Index i = 0; i < library.query_rad.size(); ++i)
       query.push_back(library.query_rad[i] * 180.0 / std::numbers::pi);

@@ -3,7 +3,7 @@
 // with surface.vibration, the tool vibration of the time-domain simulation
 // at the job's (posture-interpolated) dynamics (001 §2.2-2.3) → surface.csv,
 // profiles.csv, surface.bmp, summary.json (docs/surface.md). The computation
-// is io::run_surface_job; this file writes its results.
+// is analysis::run_surface_job; this file writes its results.
 
 #include <fmt/format.h>
 
@@ -14,10 +14,10 @@
 #include <nlohmann/json.hpp>
 #include <numbers>
 
+#include "robomill/analysis/surface_run.hpp"
 #include "robomill/commands/commands.hpp"
 #include "robomill/io/csv.hpp"
 #include "robomill/io/summary.hpp"
-#include "robomill/io/surface_run.hpp"
 
 namespace robomill::commands {
 namespace {
@@ -68,9 +68,9 @@ nlohmann::json profile_json(const surface::ProfileRoughness& p) {
 
 }  // namespace
 
-CommandResult compute_surface(const io::Job& job, int threads) {
-  const io::SurfaceRun run = io::run_surface_job(job, threads);
-  const io::SurfaceSettings& s = *job.surface;
+CommandResult compute_surface(const job::Job& job, int threads) {
+  const analysis::SurfaceRun run = analysis::run_surface_job(job, threads);
+  const job::SurfaceSettings& s = *job.surface;
   const tool::Tool cutter(*job.tool);
   const surface::ZMapGrid& grid = run.zmap.map.grid;
   const surface::RasterPath& path = run.path;
@@ -152,7 +152,7 @@ CommandResult compute_surface(const io::Job& job, int threads) {
   if (vibration) {
     summary["vibration"] = {
         {"structure", vibration->structure},
-        {"dynamics", io::dynamics_source_name(job.dynamics_source)},
+        {"dynamics", job::dynamics_source_name(job.dynamics_source)},
         {"natural_frequencies_hz", vibration->natural_frequencies_hz},
         {"steps_per_tooth", vibration->steps_per_tooth},
         {"warmup_s", vibration->warmup_s},

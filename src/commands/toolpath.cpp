@@ -15,20 +15,20 @@
 #include <set>
 
 #include "robomill/analysis/program_run.hpp"
+#include "robomill/analysis/robot_path_setup.hpp"
 #include "robomill/commands/commands.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/io/csv.hpp"
 #include "robomill/io/output_bundle.hpp"
 #include "robomill/io/program_readers.hpp"
 #include "robomill/io/program_writer.hpp"
-#include "robomill/io/robot_path.hpp"
 #include "robomill/io/summary.hpp"
 #include "robomill/robot/kinematics.hpp"
-#include "robomill/toolpath/deflection_compensation.hpp"
-#include "robomill/toolpath/feed_schedule.hpp"
+#include "robomill/robot_path/deflection_compensation.hpp"
+#include "robomill/robot_path/feed_schedule.hpp"
+#include "robomill/robot_path/program_optimization.hpp"
+#include "robomill/robot_path/robot_along_path.hpp"
 #include "robomill/toolpath/program_analysis.hpp"
-#include "robomill/toolpath/program_optimization.hpp"
-#include "robomill/toolpath/robot_along_path.hpp"
 
 namespace robomill::commands {
 namespace {
@@ -124,7 +124,7 @@ class TableRow {
 
 template <class Row>
 void add_sample(Row& row, const toolpath::PathSample& s,
-                const toolpath::RobotSample* robot = nullptr) {
+                const robot_path::RobotSample* robot = nullptr) {
   for (const double value :
        {static_cast<double>(s.line), s.t_s, s.tip_m.x() * 1e3, s.tip_m.y() * 1e3, s.tip_m.z() * 1e3,
         s.axis.x(), s.axis.y(), s.axis.z(), static_cast<double>(s.tool)})
@@ -153,7 +153,7 @@ void add_sample(Row& row, const toolpath::PathSample& s,
                              s.plunge ? 1.0 : 0.0})
     row.number(value);
   if (robot) {
-    const toolpath::RobotSample& r = *robot;
+    const robot_path::RobotSample& r = *robot;
     const auto either = [&](bool present, double value) {
       if (present)
         row.number(value);
@@ -187,10 +187,11 @@ void add_sample(Row& row, const toolpath::PathSample& s,
 
 // summary.json's robot_along_path: the worst lines with their advice, the
 // robot drawn at the worst posture.
-nlohmann::json robot_summary(const io::RobotPathSetup& setup, const toolpath::RobotAlongPath& along,
-                             const toolpath::RobotPathSummary& r) {
+nlohmann::json robot_summary(const analysis::RobotPathSetup& setup,
+                             const robot_path::RobotAlongPath& along,
+                             const robot_path::RobotPathSummary& r) {
   nlohmann::json worst = nlohmann::json::array();
-  for (const toolpath::WorstLine& w : r.worst_lines) {
+  for (const robot_path::WorstLine& w : r.worst_lines) {
     std::string advice;
     if (w.margin < 1.0) {
       advice = fmt::format("chatter: lower ap to {:.2f} mm", w.depth_limit_m * 1e3 * 0.9);
@@ -268,7 +269,7 @@ nlohmann::json robot_summary(const io::RobotPathSetup& setup, const toolpath::Ro
                      {"max_line", r.max_offset_line}};
   }
   if (!r.worst_lines.empty()) {
-    const toolpath::WorstLine& w = r.worst_lines.front();
+    const robot_path::WorstLine& w = r.worst_lines.front();
     nlohmann::json origins = nlohmann::json::array();
     for (const Eigen::Vector3d& p : along.joint_origins(w.q_rad))
       origins.push_back({p.x() * 1e3, p.y() * 1e3, p.z() * 1e3});
@@ -332,7 +333,7 @@ void add_stock(Row& row, const toolpath::DexelStock& stock) {
     }
 }
 
-nlohmann::json loads_json(const toolpath::MoveLoads& loads) {
+nlohmann::json loads_json(const robot_path::MoveLoads& loads) {
   return {{"force_peak_N", loads.force_peak_n},
           {"torque_peak_Nm", loads.torque_peak_nm},
           {"deflection_um", loads.deflection_m * 1e6},
@@ -346,122 +347,118 @@ nlohmann::json warnings_json(const toolpath::ProgramAnalysis& analysis) {
   return list;
 }
 
-// summary.json's `optimization` and the message's optimize lines, from the
-// typed improvement (analysis/program_improvement.hpp); adds
-// redundancy_schedule.csv and the written program to the result.
-nlohmann::json improvement_json(const analysis::ProgramImprovement& im,
-                                const io::RobotPathSetup& setup, CommandResult& result,
-                                std::string& message) {
-  using Kind = analysis::RedundancyDecision::Kind;
-  const analysis::RedundancyDecision& psi = im.redundancy;
-  nlohmann::json redundancy = nullptr;
-  // A KRL program: the angles are turns of its frames, written into them.
-  const auto frames_turned = [&](const char* how) {
-    redundancy["frames"] = true;
-    redundancy["frames_turned"] = im.frames_turned;
-    redundancy["note"] = fmt::format(
-        "the program's frames set ψ at every sample (psi_deg): the angles are turns of its frames "
-        "about the tool axis, {}, written into the A, B, C of its Cartesian points in "
-        "program_optimized.src and .dat; S and T bits are kept",
-        how);
-  };
-  if (psi.kind == Kind::program_frames) {
-    std::string note =
-        "the program's frames fix the tool's rotation about its axis (ψ per sample, psi_deg): "
-        "robot_path.redundancy_search is not applied";
-    if (!psi.frames_refused.empty())
-      note += "; its frames cannot all be turned: " + psi.frames_refused;
-    redundancy = {{"programmed_deg", nullptr}, {"note", note}};
-    message += "  optimize: the program's frames fix ψ; redundancy_search not applied" +
-               (psi.frames_refused.empty() ? std::string() : " (" + psi.frames_refused + ")") +
-               "\n";
-  } else if (psi.kind == Kind::per_line) {
-    const toolpath::RedundancySchedule& schedule = *psi.schedule;
-    io::CsvTable table({"line", "first_move", "last_move", "from_deg", "to_deg", "turn",
-                        "turn_joint_speed_deg_s", "min_margin", "samples"});
-    nlohmann::json lines = nlohmann::json::array();
-    for (const auto& line : schedule.lines) {
-      const char* turn = line.from_rad != line.to_rad ? "during"
-                         : line.turn_before           ? "before"
-                                                      : "none";
-      table.add_cells({static_cast<double>(line.line), static_cast<double>(line.first_move + 1),
-                       static_cast<double>(line.last_move + 1), line.from_rad * kDegPerRad,
-                       line.to_rad * kDegPerRad, std::string(turn),
-                       line.turn_joint_speed_rad_s * kDegPerRad, line.min_margin,
-                       static_cast<double>(line.samples)});
-      if (lines.size() < 500)
-        lines.push_back({{"line", line.line},
-                         {"from_deg", line.from_rad * kDegPerRad},
-                         {"to_deg", line.to_rad * kDegPerRad},
-                         {"turn", turn},
-                         {"turn_joint_speed_deg_s", line.turn_joint_speed_rad_s * kDegPerRad},
-                         {"min_margin", line.min_margin}});
-    }
-    if (schedule.changed())
-      result.tables.emplace_back("redundancy_schedule", std::move(table));
-    redundancy = {{"per_line", true},
-                  {"programmed_deg", schedule.programmed_rad * kDegPerRad},
-                  {"joint_speed_max_deg_s", psi.joint_speed_max_rad_s * kDegPerRad},
-                  {"turns", schedule.turns},
-                  {"min_margin_before", schedule.min_margin_before},
-                  {"min_margin_after", schedule.min_margin_after},
-                  {"changed", schedule.changed()},
-                  {"lines", lines},
-                  {"note",
-                   "ψ per program line, the cell's setting (the robot post's rotation about the "
-                   "tool axis): the program has no word for it; redundancy_schedule.csv gives it "
-                   "line by line, and the re-run uses it"}};
-    if (psi.turns_frames)
-      frames_turned(
-          "each Cartesian point turned by the angle of the line that ends at it "
-          "(from_deg/to_deg)");
-    if (schedule.changed())
-      message += fmt::format(
-          "  optimize: {} per line, {} turns (min margin {:.2f} -> {:.2f} at the programmed "
-          "speeds)\n",
-          psi.turns_frames ? "the program's frames turned about the tool axis" : "redundancy angle",
-          schedule.turns, schedule.min_margin_before, schedule.min_margin_after);
-  } else if (psi.kind == Kind::single) {
-    const toolpath::RedundancyChoice& choice = *psi.choice;
-    nlohmann::json tried = nlohmann::json::array();
-    for (const auto& c : choice.candidates)
-      tried.push_back({{"redundancy_deg", c.redundancy_rad * kDegPerRad},
-                       {"min_margin", c.min_margin},
-                       {"at_risk", c.at_risk},
-                       {"unreachable", c.unreachable},
-                       {"joint_limit", c.joint_limit},
-                       {"safe_samples_put_at_risk", c.newly_at_risk}});
-    redundancy = {{"programmed_deg", choice.programmed_rad * kDegPerRad},
-                  {"chosen_deg", choice.chosen_rad * kDegPerRad},
-                  {"samples_judged", choice.samples},
-                  {"min_margin_before", choice.min_margin_before},
-                  {"min_margin_after", choice.min_margin_after},
-                  {"candidates", tried},
-                  {"note",
-                   "ψ is the cell's setting (the robot post's rotation about the tool "
-                   "axis): the program has no word for it"}};
-    if (psi.turns_frames) {
-      frames_turned("one turn of all of them for the whole program");
-      if (!psi.per_line_refused.empty()) {
-        redundancy["per_line_refused"] = psi.per_line_refused;
-        message +=
-            "  optimize: one turn of all frames instead of one per line: " + psi.per_line_refused +
-            "\n";
-      }
-    }
-    if (choice.changed())
-      message += fmt::format(
-          "  optimize: {} {:.0f} -> {:.0f} deg (min margin {:.2f} "
-          "-> {:.2f} at the programmed speeds)\n",
-          psi.turns_frames ? "the program's frames turned about the tool axis,"
-                           : "redundancy angle",
-          choice.programmed_rad * kDegPerRad, choice.chosen_rad * kDegPerRad,
-          choice.min_margin_before, choice.min_margin_after);
-  }
+// summary.json's `optimization`, the files and the message's optimize lines
+// are built apart, each from the typed improvement
+// (analysis/program_improvement.hpp): improvement_json,
+// add_improvement_files and improvement_message.
 
+// How a line's schedule turns ψ: during the line, before it, or not at all.
+const char* redundancy_turn(const robot_path::RedundancySchedule::Line& line) {
+  return line.from_rad != line.to_rad ? "during" : line.turn_before ? "before" : "none";
+}
+
+// A KRL program: the angles are turns of its frames, written into them.
+void add_frames_turned(nlohmann::json& redundancy, const analysis::ProgramImprovement& im,
+                       const char* how) {
+  redundancy["frames"] = true;
+  redundancy["frames_turned"] = im.frames_turned;
+  redundancy["note"] = fmt::format(
+      "the program's frames set ψ at every sample (psi_deg): the angles are turns of its frames "
+      "about the tool axis, {}, written into the A, B, C of its Cartesian points in "
+      "program_optimized.src and .dat; S and T bits are kept",
+      how);
+}
+
+nlohmann::json program_frames_json(const analysis::RedundancyDecision& psi) {
+  std::string note =
+      "the program's frames fix the tool's rotation about its axis (ψ per sample, psi_deg): "
+      "robot_path.redundancy_search is not applied";
+  if (!psi.frames_refused.empty())
+    note += "; its frames cannot all be turned: " + psi.frames_refused;
+  return {{"programmed_deg", nullptr}, {"note", note}};
+}
+
+nlohmann::json per_line_redundancy_json(const analysis::ProgramImprovement& im) {
+  const analysis::RedundancyDecision& psi = im.redundancy;
+  const robot_path::RedundancySchedule& schedule = *psi.schedule;
+  nlohmann::json lines = nlohmann::json::array();
+  for (const auto& line : schedule.lines) {
+    if (lines.size() < 500)
+      lines.push_back({{"line", line.line},
+                       {"from_deg", line.from_rad * kDegPerRad},
+                       {"to_deg", line.to_rad * kDegPerRad},
+                       {"turn", redundancy_turn(line)},
+                       {"turn_joint_speed_deg_s", line.turn_joint_speed_rad_s * kDegPerRad},
+                       {"min_margin", line.min_margin}});
+  }
+  nlohmann::json redundancy = {
+      {"per_line", true},
+      {"programmed_deg", schedule.programmed_rad * kDegPerRad},
+      {"joint_speed_max_deg_s", psi.joint_speed_max_rad_s * kDegPerRad},
+      {"turns", schedule.turns},
+      {"min_margin_before", schedule.min_margin_before},
+      {"min_margin_after", schedule.min_margin_after},
+      {"changed", schedule.changed()},
+      {"lines", lines},
+      {"note",
+       "ψ per program line, the cell's setting (the robot post's rotation about the "
+       "tool axis): the program has no word for it; redundancy_schedule.csv gives it "
+       "line by line, and the re-run uses it"}};
+  if (psi.turns_frames)
+    add_frames_turned(redundancy, im,
+                      "each Cartesian point turned by the angle of the line that ends at it "
+                      "(from_deg/to_deg)");
+  return redundancy;
+}
+
+nlohmann::json single_redundancy_json(const analysis::ProgramImprovement& im) {
+  const analysis::RedundancyDecision& psi = im.redundancy;
+  const robot_path::RedundancyChoice& choice = *psi.choice;
+  nlohmann::json tried = nlohmann::json::array();
+  for (const auto& c : choice.candidates)
+    tried.push_back({{"redundancy_deg", c.redundancy_rad * kDegPerRad},
+                     {"min_margin", c.min_margin},
+                     {"at_risk", c.at_risk},
+                     {"unreachable", c.unreachable},
+                     {"joint_limit", c.joint_limit},
+                     {"safe_samples_put_at_risk", c.newly_at_risk}});
+  nlohmann::json redundancy = {{"programmed_deg", choice.programmed_rad * kDegPerRad},
+                               {"chosen_deg", choice.chosen_rad * kDegPerRad},
+                               {"samples_judged", choice.samples},
+                               {"min_margin_before", choice.min_margin_before},
+                               {"min_margin_after", choice.min_margin_after},
+                               {"candidates", tried},
+                               {"note",
+                                "ψ is the cell's setting (the robot post's rotation about the tool "
+                                "axis): the program has no word for it"}};
+  if (psi.turns_frames) {
+    add_frames_turned(redundancy, im, "one turn of all of them for the whole program");
+    if (!psi.per_line_refused.empty())
+      redundancy["per_line_refused"] = psi.per_line_refused;
+  }
+  return redundancy;
+}
+
+// `optimization.redundancy`: null when ψ was not searched.
+nlohmann::json redundancy_json(const analysis::ProgramImprovement& im) {
+  using Kind = analysis::RedundancyDecision::Kind;
+  switch (im.redundancy.kind) {
+    case Kind::program_frames:
+      return program_frames_json(im.redundancy);
+    case Kind::per_line:
+      return per_line_redundancy_json(im);
+    case Kind::single:
+      return single_redundancy_json(im);
+    case Kind::none:
+      break;
+  }
+  return nullptr;
+}
+
+nlohmann::json spindle_choices_json(const analysis::SpindleDecision& spindles) {
   nlohmann::json changes = nlohmann::json::array();
-  for (const toolpath::SpindleChoice& c : im.spindles.choices) {
-    const toolpath::SpindleRegion& region = im.spindles.regions[c.region];
+  for (const robot_path::SpindleChoice& c : spindles.choices) {
+    const robot_path::SpindleRegion& region = spindles.regions[c.region];
     changes.push_back({{"lines", {region.first_line, region.last_line}},
                        {"tool", region.tool},
                        {"programmed_rpm", std::abs(c.programmed_rad_s) * kRpmPerRadS},
@@ -472,7 +469,106 @@ nlohmann::json improvement_json(const analysis::ProgramImprovement& im,
                        {"at_risk_before", c.at_risk_before},
                        {"at_risk_after", c.at_risk_after}});
   }
-  nlohmann::json out = {{"spindle_choices", changes}, {"redundancy", redundancy}};
+  return changes;
+}
+
+nlohmann::json feeds_json(const analysis::FeedDecision& f) {
+  nlohmann::json lines = nlohmann::json::array();
+  for (const robot_path::LineFeed& line : f.schedule.lines) {
+    if (!line.changed() || lines.size() >= 500)
+      continue;
+    lines.push_back({{"line", line.line},
+                     {"programmed_mm_min", line.programmed_m_s * 6e4},
+                     {"chosen_mm_min", line.programmed_m_s * line.scale * 6e4},
+                     {"binding", line.binding},
+                     {"before", loads_json(line.before)},
+                     {"after", loads_json(line.after)}});
+  }
+  return {{"limits",
+           {{"force_max_N", f.limits.force_max_n},
+            {"torque_max_Nm", f.limits.torque_max_nm},
+            {"deflection_max_um", f.limits.deflection_max_m * 1e6},
+            {"joint_speed_max_deg_s", f.limits.joint_speed_max_rad_s * kDegPerRad},
+            {"feed_min_mm_min", f.limits.feed_min_m_s * 6e4},
+            {"feed_max_mm_min", f.limits.feed_max_m_s * 6e4}}},
+          {"runs", f.schedule.runs},
+          {"lines_with_feed", f.schedule.lines.size()},
+          {"lines_changed", f.lines_changed},
+          {"lines_slowed", f.lines_slowed},
+          {"lines_sped_up", f.lines_changed - f.lines_slowed},
+          {"max_before", loads_json(f.schedule.max_before)},
+          {"max_after", loads_json(f.schedule.max_after)},
+          {"changes", lines},
+          {"note",
+           "loads per line as measured on runs of the whole program at the chosen "
+           "spindle speeds and redundancy angle: 'before' at the programmed feed, "
+           "'after' at the chosen one; a line under every cap keeps its feed unless "
+           "feed_max lets it run faster"}};
+}
+
+// `optimization.after`: the re-run of the improved program.
+nlohmann::json after_json(const analysis::AfterRun& a) {
+  const robot_path::RobotPathSummary& r = a.robot;
+  return {{"min_margin", r.min_margin},
+          {"min_margin_line", r.min_margin_line},
+          {"chatter_samples", r.chatter},
+          {"at_risk_samples", r.at_risk},
+          {"fraction_at_risk",
+           r.stability_samples > 0 ? static_cast<double>(r.at_risk) / r.stability_samples : 0.0},
+          {"max_form_error_um", r.max_form_error_m * 1e6},
+          {"max_force_N", a.max_force_n},
+          {"max_torque_Nm", a.max_torque_nm},
+          {"max_deflection_um", a.max_deflection_m * 1e6},
+          {"cycle_time_s", a.cycle_time_s}};
+}
+
+nlohmann::json compensation_json(const analysis::CompensationOutcome& c) {
+  nlohmann::json skipped = nlohmann::json::array();
+  for (const auto& [line, reason] : c.skipped)
+    if (skipped.size() < 50)
+      skipped.push_back({{"line", line}, {"reason", reason}});
+  return {{"floor", c.settings.floor},
+          {"min_offset_um", c.settings.min_offset_m * 1e6},
+          {"tolerance_um", c.settings.tolerance_m * 1e6},
+          {"lines_compensated", c.written.size()},
+          {"points_added", c.points_added},
+          {"arcs_compensated", c.arcs_compensated},
+          {"max_arc_fit_residual_um", c.max_arc_fit_residual_m * 1e6},
+          {"lines_skipped", skipped},
+          {"max_offset_um", c.max_offset_m * 1e6},
+          {"residual_um",
+           {{"median", c.residual_m.median * 1e6},
+            {"p90", c.residual_m.p90 * 1e6},
+            {"max", c.residual_m.max * 1e6}}},
+          {"max_residual_um", c.residual_m.max * 1e6},
+          {"wall_samples", c.wall_samples},
+          {"compensated",
+           {{"min_margin", c.compensated.min_margin},
+            {"chatter_samples", c.compensated.chatter},
+            {"at_risk_samples", c.compensated.at_risk},
+            {"max_force_N", c.compensated_max_force_n},
+            {"cycle_time_s", c.compensated_cycle_time_s}}},
+          {"note",
+           "first order: every straight line moved against its samples' predicted error (form "
+           "error towards the wall; floor error along the axis with floor) at the feeds and "
+           "speeds chosen above, as a polyline within tolerance_um of it; every arc's centre and "
+           "radius fitted to its samples' (max_arc_fit_residual_um: what the circle could not "
+           "follow); 'after' is the program "
+           "before this step, 'compensated' and max_residual_um the written program analysed "
+           "again (the residual e' - (p' - p).w against the programmed line at every wall "
+           "sample)"},
+          {"form_error_before_um",
+           {{"median", c.before_m.median * 1e6},
+            {"p90", c.before_m.p90 * 1e6},
+            {"max", c.before_m.max * 1e6}}},
+          {"max_form_error_before_um", c.max_form_error_before_m * 1e6}};
+}
+
+// summary.json's `optimization`.
+nlohmann::json improvement_json(const analysis::ProgramImprovement& im,
+                                const analysis::RobotPathSetup& setup) {
+  nlohmann::json out = {{"spindle_choices", spindle_choices_json(im.spindles)},
+                        {"redundancy", redundancy_json(im)}};
   if (!setup.stability.advice_speeds_rad_s.empty())
     out["speed_range_rpm"] = {setup.stability.advice_speeds_rad_s.front() * kRpmPerRadS,
                               setup.stability.advice_speeds_rad_s.back() * kRpmPerRadS};
@@ -480,71 +576,20 @@ nlohmann::json improvement_json(const analysis::ProgramImprovement& im,
     out["note"] =
         "KRL programs carry no spindle speed (the cell's PLC sets it): set the chosen "
         "speeds there; the re-run shows the redundancy angle's and the feeds' effect only";
-
-  if (im.feeds) {
-    const analysis::FeedDecision& f = *im.feeds;
-    nlohmann::json lines = nlohmann::json::array();
-    for (const toolpath::LineFeed& line : f.schedule.lines) {
-      if (!line.changed() || lines.size() >= 500)
-        continue;
-      lines.push_back({{"line", line.line},
-                       {"programmed_mm_min", line.programmed_m_s * 6e4},
-                       {"chosen_mm_min", line.programmed_m_s * line.scale * 6e4},
-                       {"binding", line.binding},
-                       {"before", loads_json(line.before)},
-                       {"after", loads_json(line.after)}});
-    }
-    out["feeds"] = {{"limits",
-                     {{"force_max_N", f.limits.force_max_n},
-                      {"torque_max_Nm", f.limits.torque_max_nm},
-                      {"deflection_max_um", f.limits.deflection_max_m * 1e6},
-                      {"joint_speed_max_deg_s", f.limits.joint_speed_max_rad_s * kDegPerRad},
-                      {"feed_min_mm_min", f.limits.feed_min_m_s * 6e4},
-                      {"feed_max_mm_min", f.limits.feed_max_m_s * 6e4}}},
-                    {"runs", f.schedule.runs},
-                    {"lines_with_feed", f.schedule.lines.size()},
-                    {"lines_changed", f.lines_changed},
-                    {"lines_slowed", f.lines_slowed},
-                    {"lines_sped_up", f.lines_changed - f.lines_slowed},
-                    {"max_before", loads_json(f.schedule.max_before)},
-                    {"max_after", loads_json(f.schedule.max_after)},
-                    {"changes", lines},
-                    {"note",
-                     "loads per line as measured on runs of the whole program at the chosen "
-                     "spindle speeds and redundancy angle: 'before' at the programmed feed, "
-                     "'after' at the chosen one; a line under every cap keeps its feed unless "
-                     "feed_max lets it run faster"}};
-    message += fmt::format(
-        "  optimize: feeds of {} of {} lines changed ({} slowed, {} sped up) in {} runs of the "
-        "program\n",
-        f.lines_changed, f.schedule.lines.size(), f.lines_slowed, f.lines_changed - f.lines_slowed,
-        f.schedule.runs);
-  }
+  if (im.feeds)
+    out["feeds"] = feeds_json(*im.feeds);
 
   if (!im.changed) {
     out["changed"] = false;
     out["note"] =
         "no speed in the range raises the smallest margin without putting a safe sample at "
         "risk, and every feed is within the limits: the program is kept";
-    message += "  optimize: nothing to change; the program is kept\n";
     return out;
   }
   const analysis::AfterRun& a = *im.after;
-  const toolpath::RobotPathSummary& r = a.robot;
   out["changed"] = true;
   out["program"] = im.name;
-  out["after"] = {
-      {"min_margin", r.min_margin},
-      {"min_margin_line", r.min_margin_line},
-      {"chatter_samples", r.chatter},
-      {"at_risk_samples", r.at_risk},
-      {"fraction_at_risk",
-       r.stability_samples > 0 ? static_cast<double>(r.at_risk) / r.stability_samples : 0.0},
-      {"max_form_error_um", r.max_form_error_m * 1e6},
-      {"max_force_N", a.max_force_n},
-      {"max_torque_Nm", a.max_torque_nm},
-      {"max_deflection_um", a.max_deflection_m * 1e6},
-      {"cycle_time_s", a.cycle_time_s}};
+  out["after"] = after_json(a);
   out["cycle_time_before_s"] = im.cycle_time_before_s;
   out["samples_newly_at_risk"] = a.newly_at_risk;
   out["first_newly_at_risk_line"] = a.first_newly_at_risk_line;
@@ -553,158 +598,152 @@ nlohmann::json improvement_json(const analysis::ProgramImprovement& im,
   out["samples_before"] = im.samples_before;
   out["after"]["redundancy_deg"] = a.redundancy_rad * kDegPerRad;
   out["after"]["max_joint_speed_deg_s"] = a.max_joint_speed_rad_s * kDegPerRad;
-  if (im.compensation) {
-    const analysis::CompensationOutcome& c = *im.compensation;
-    nlohmann::json skipped = nlohmann::json::array();
-    for (const auto& [line, reason] : c.skipped)
-      if (skipped.size() < 50)
-        skipped.push_back({{"line", line}, {"reason", reason}});
-    if (!c.skipped.empty())
-      message += fmt::format("  optimize: {} lines not compensated (first: line {}, {})\n",
-                             c.skipped.size(), c.skipped.front().first, c.skipped.front().second);
-    message += fmt::format(
-        "  optimize: {} lines compensated ({} arcs, {} points added); the walls' largest error "
-        "-> {:.1f} um (measured on the written program)\n",
-        c.written.size(), c.arcs_compensated, c.points_added, c.residual_m.max * 1e6);
-    out["compensation"] = {
-        {"floor", c.settings.floor},
-        {"min_offset_um", c.settings.min_offset_m * 1e6},
-        {"tolerance_um", c.settings.tolerance_m * 1e6},
-        {"lines_compensated", c.written.size()},
-        {"points_added", c.points_added},
-        {"arcs_compensated", c.arcs_compensated},
-        {"max_arc_fit_residual_um", c.max_arc_fit_residual_m * 1e6},
-        {"lines_skipped", skipped},
-        {"max_offset_um", c.max_offset_m * 1e6},
-        {"residual_um",
-         {{"median", c.residual_m.median * 1e6},
-          {"p90", c.residual_m.p90 * 1e6},
-          {"max", c.residual_m.max * 1e6}}},
-        {"max_residual_um", c.residual_m.max * 1e6},
-        {"wall_samples", c.wall_samples},
-        {"compensated",
-         {{"min_margin", c.compensated.min_margin},
-          {"chatter_samples", c.compensated.chatter},
-          {"at_risk_samples", c.compensated.at_risk},
-          {"max_force_N", c.compensated_max_force_n},
-          {"cycle_time_s", c.compensated_cycle_time_s}}},
-        {"note",
-         "first order: every straight line moved against its samples' predicted error (form "
-         "error towards the wall; floor error along the axis with floor) at the feeds and "
-         "speeds chosen above, as a polyline within tolerance_um of it; every arc's centre and "
-         "radius fitted to its samples' (max_arc_fit_residual_um: what the circle could not "
-         "follow); 'after' is the program "
-         "before this step, 'compensated' and max_residual_um the written program analysed "
-         "again (the residual e' - (p' - p).w against the programmed line at every wall "
-         "sample)"},
-        {"form_error_before_um",
-         {{"median", c.before_m.median * 1e6},
-          {"p90", c.before_m.p90 * 1e6},
-          {"max", c.before_m.max * 1e6}}},
-        {"max_form_error_before_um", c.max_form_error_before_m * 1e6}};
-  }
+  if (im.compensation)
+    out["compensation"] = compensation_json(*im.compensation);
   if (!im.text)
     out["program"] = nullptr;  // only ψ changed: the program itself is the same
-  else
+  return out;
+}
+
+io::CsvTable redundancy_schedule_table(const robot_path::RedundancySchedule& schedule) {
+  io::CsvTable table({"line", "first_move", "last_move", "from_deg", "to_deg", "turn",
+                      "turn_joint_speed_deg_s", "min_margin", "samples"});
+  for (const auto& line : schedule.lines) {
+    table.add_cells({static_cast<double>(line.line), static_cast<double>(line.first_move + 1),
+                     static_cast<double>(line.last_move + 1), line.from_rad * kDegPerRad,
+                     line.to_rad * kDegPerRad, std::string(redundancy_turn(line)),
+                     line.turn_joint_speed_rad_s * kDegPerRad, line.min_margin,
+                     static_cast<double>(line.samples)});
+  }
+  return table;
+}
+
+// The improvement's files: redundancy_schedule.csv when ψ changes per line,
+// the written program (and its .dat) when the program changed.
+void add_improvement_files(const analysis::ProgramImprovement& im, CommandResult& result) {
+  using Kind = analysis::RedundancyDecision::Kind;
+  if (im.redundancy.kind == Kind::per_line) {
+    // Built whether or not ψ changed: its rows are checked (finite) either way.
+    io::CsvTable table = redundancy_schedule_table(*im.redundancy.schedule);
+    if (im.redundancy.schedule->changed())
+      result.tables.emplace_back("redundancy_schedule", std::move(table));
+  }
+  if (!im.changed)
+    return;
+  if (im.text)
     result.texts.emplace_back(im.name, *im.text);
   if (im.dat_text)
     result.texts.emplace_back("program_optimized.dat", *im.dat_text);
+}
+
+std::string redundancy_message(const analysis::RedundancyDecision& psi) {
+  using Kind = analysis::RedundancyDecision::Kind;
+  std::string message;
+  if (psi.kind == Kind::program_frames) {
+    message += "  optimize: the program's frames fix ψ; redundancy_search not applied" +
+               (psi.frames_refused.empty() ? std::string() : " (" + psi.frames_refused + ")") +
+               "\n";
+  } else if (psi.kind == Kind::per_line) {
+    const robot_path::RedundancySchedule& schedule = *psi.schedule;
+    if (schedule.changed())
+      message += fmt::format(
+          "  optimize: {} per line, {} turns (min margin {:.2f} -> {:.2f} at the programmed "
+          "speeds)\n",
+          psi.turns_frames ? "the program's frames turned about the tool axis" : "redundancy angle",
+          schedule.turns, schedule.min_margin_before, schedule.min_margin_after);
+  } else if (psi.kind == Kind::single) {
+    const robot_path::RedundancyChoice& choice = *psi.choice;
+    if (psi.turns_frames && !psi.per_line_refused.empty())
+      message +=
+          "  optimize: one turn of all frames instead of one per line: " + psi.per_line_refused +
+          "\n";
+    if (choice.changed())
+      message += fmt::format(
+          "  optimize: {} {:.0f} -> {:.0f} deg (min margin {:.2f} "
+          "-> {:.2f} at the programmed speeds)\n",
+          psi.turns_frames ? "the program's frames turned about the tool axis,"
+                           : "redundancy angle",
+          choice.programmed_rad * kDegPerRad, choice.chosen_rad * kDegPerRad,
+          choice.min_margin_before, choice.min_margin_after);
+  }
+  return message;
+}
+
+std::string compensation_message(const analysis::CompensationOutcome& c) {
+  std::string message;
+  if (!c.skipped.empty())
+    message += fmt::format("  optimize: {} lines not compensated (first: line {}, {})\n",
+                           c.skipped.size(), c.skipped.front().first, c.skipped.front().second);
+  message += fmt::format(
+      "  optimize: {} lines compensated ({} arcs, {} points added); the walls' largest error "
+      "-> {:.1f} um (measured on the written program)\n",
+      c.written.size(), c.arcs_compensated, c.points_added, c.residual_m.max * 1e6);
+  return message;
+}
+
+// The message's optimize lines.
+std::string improvement_message(const analysis::ProgramImprovement& im) {
+  std::string message = redundancy_message(im.redundancy);
+  if (im.feeds) {
+    const analysis::FeedDecision& f = *im.feeds;
+    message += fmt::format(
+        "  optimize: feeds of {} of {} lines changed ({} slowed, {} sped up) in {} runs of the "
+        "program\n",
+        f.lines_changed, f.schedule.lines.size(), f.lines_slowed, f.lines_changed - f.lines_slowed,
+        f.schedule.runs);
+  }
+  if (!im.changed)
+    return message + "  optimize: nothing to change; the program is kept\n";
+  const analysis::AfterRun& a = *im.after;
+  const robot_path::RobotPathSummary& r = a.robot;
+  if (im.compensation)
+    message += compensation_message(*im.compensation);
   message += fmt::format(
       "  optimize: {}; chatter samples {} -> {}, min margin -> {:.2f}, {} samples no longer at "
       "risk, {} newly at risk; cycle time {:.1f} -> {:.1f} s\n",
       im.text ? im.name + " written" : std::string("the program is kept"), im.chatter_before,
       r.chatter, r.min_margin, a.relieved, a.newly_at_risk, im.cycle_time_before_s, a.cycle_time_s);
-  return out;
+  return message;
 }
 
-}  // namespace
-
-CommandResult compute_toolpath(const io::Job& job, int threads,
-                               const std::filesystem::path& samples_file, const Progress& progress,
-                               bool optimize, const analysis::BlockSharing* sharing) {
-  // Samples stream to the file (or into a table for library callers); a
-  // preview of at most kPreviewRows evenly spread rows goes to the report,
-  // the stride chosen from the program's length before the run.
-  int dof = 0;
-  std::size_t preview_stride = 1, seen = 0;
-  io::CsvTable samples = sample_table(), preview = sample_table();
-  std::ofstream stream;
-  std::optional<io::CsvText> streamed;  // samples.csv's rows, written block by block
-  analysis::ProgramRunOptions options;
-  options.threads = threads;
-  options.optimize = optimize;
-  options.sharing = sharing;
-  options.scratch_dir = samples_file.empty() ? std::filesystem::path() : samples_file.parent_path();
-  if (progress)
-    options.progress = [&](double fraction) { progress("toolpath", fraction); };
-  options.on_start = [&](const analysis::ProgramRun& run) {
-    dof = run.robot ? run.robot->model().dof() : 0;
-    samples = sample_table(dof);
-    preview = sample_table(dof);
-    // Only the path near the stock is sampled (program_analysis.hpp): the
-    // stretches beyond the largest cutter's reach of the box are not.
-    const double spacing_m =
-        job.toolpath->spacing_m > 0.0 ? job.toolpath->spacing_m : 0.5 * job.stock->resolution_m;
-    double reach_m = 0.0;
-    for (const auto& [number, tool] : *run.tooling)
-      reach_m = std::max(reach_m, toolpath::cutter_reach_m(toolpath::cutter_shape(tool)));
-    const toolpath::StockBox box{job.stock->min_m, job.stock->max_m};
-    double path_length_m = 0.0;
-    for (const toolpath::Move& move : run.program.moves) {
-      const toolpath::MoveStretch near = toolpath::move_near_box(move, box, reach_m);
-      if (!near.empty())
-        path_length_m +=
-            toolpath::path_length_m(move) * (std::min(1.0, near.to_u) - std::max(0.0, near.from_u));
-    }
-    const double expected_samples = path_length_m / std::max(spacing_m, 1e-6) +
-                                    2.0 * static_cast<double>(run.program.moves.size());
-    preview_stride = static_cast<std::size_t>(
-        std::max(1.0, std::ceil(expected_samples / static_cast<double>(kPreviewRows))));
-    if (!samples_file.empty()) {
-      stream.open(samples_file, std::ios::binary | std::ios::trunc);
-      if (!stream)
-        throw Error("cannot write " + samples_file.string());
-      streamed.emplace(sample_columns(dof));
-    }
-  };
-  options.on_samples = [&](std::span<const toolpath::PathSample> block,
-                           std::span<const toolpath::RobotSample> robot) {
-    TableRow in_memory(samples), preview_row(preview);
-    for (std::size_t i = 0; i < block.size(); ++i) {
-      const toolpath::RobotSample* r = robot.empty() ? nullptr : &robot[i];
-      if (streamed)
-        add_sample(*streamed, block[i], r);
-      else
-        add_sample(in_memory, block[i], r);
-      if (seen++ % preview_stride == 0)
-        add_sample(preview_row, block[i], r);
-    }
-    if (streamed) {
-      const std::string text = streamed->take();
-      stream.write(text.data(), static_cast<std::streamsize>(text.size()));
-      if (!stream)
-        throw Error("cannot write " + samples_file.string());
-    }
-  };
-  const analysis::ProgramRun run = analysis::run_program(job, options);
-  if (stream.is_open()) {
-    stream.flush();
-    if (!stream)
-      throw Error("cannot write " + samples_file.string());
+// The stride of the preview's rows: at most kPreviewRows of the samples
+// the program is expected to give. Only the path near the stock is sampled
+// (program_analysis.hpp): the stretches beyond the largest cutter's reach of
+// the box are not.
+std::size_t preview_stride_for(const job::Job& job, const analysis::ProgramRun& run) {
+  const double spacing_m =
+      job.toolpath->spacing_m > 0.0 ? job.toolpath->spacing_m : 0.5 * job.stock->resolution_m;
+  double reach_m = 0.0;
+  for (const auto& [number, tool] : *run.tooling)
+    reach_m = std::max(reach_m, toolpath::cutter_reach_m(toolpath::cutter_shape(tool)));
+  const toolpath::StockBox box{job.stock->min_m, job.stock->max_m};
+  double path_length_m = 0.0;
+  for (const toolpath::Move& move : run.program.moves) {
+    const toolpath::MoveStretch near = toolpath::move_near_box(move, box, reach_m);
+    if (!near.empty())
+      path_length_m +=
+          toolpath::path_length_m(move) * (std::min(1.0, near.to_u) - std::max(0.0, near.from_u));
   }
-  const io::ToolpathSettings& settings = *job.toolpath;
+  const double expected_samples = path_length_m / std::max(spacing_m, 1e-6) +
+                                  2.0 * static_cast<double>(run.program.moves.size());
+  return static_cast<std::size_t>(
+      std::max(1.0, std::ceil(expected_samples / static_cast<double>(kPreviewRows))));
+}
+
+// summary.json without the robot's and the optimization's parts.
+nlohmann::json toolpath_summary(const job::Job& job, const analysis::ProgramRun& run) {
+  const job::ToolpathSettings& settings = *job.toolpath;
   const toolpath::Program& program = run.program;
   const toolpath::ProgramAnalysis& analysis = run.analysis;
-
   nlohmann::json notes = nlohmann::json::array();
   for (const toolpath::ProgramNote& note : program.notes)
     notes.push_back({{"line", note.line}, {"text", note.text}});
   std::set<int> tools_used;
   for (const toolpath::Move& move : program.moves)
     tools_used.insert(move.tool);
-  const io::StockSettings& stock_settings = *job.stock;
+  const job::StockSettings& stock_settings = *job.stock;
   const double cycle_time_s = analysis.cutting_time_s + analysis.air_time_s + analysis.dwell_time_s;
-  nlohmann::json summary = {
+  return {
       {"command", "toolpath"},
       {"job", job.source.string()},
       {"program", settings.file_text},
@@ -743,44 +782,42 @@ CommandResult compute_toolpath(const io::Job& job, int threads,
       {"frame", "workpiece frame; forces on the tool"},
       {"elapsed_s", run.elapsed_s},
   };
-  if (!job.name.empty())
-    summary["name"] = job.name;
-  std::string robot_text;
-  if (run.robot) {
-    const toolpath::RobotPathSummary& r = *run.robot_summary;
-    if (r.unreachable > 0) {
-      std::string lines;
-      for (std::size_t k = 0; k < std::min<std::size_t>(r.unreachable_lines.size(), 10); ++k)
-        lines += (k ? ", " : "") + std::to_string(r.unreachable_lines[k]);
-      robot_text += fmt::format(
-          "  warning: the robot cannot reach {} samples (lines {}{}); their "
-          "columns are the inverse kinematics' best attempt\n",
-          r.unreachable, lines, r.unreachable_lines.size() > 10 ? ", ..." : "");
-    }
-    summary["robot_along_path"] = robot_summary(*run.robot_setup, *run.robot, r);
-    robot_text += fmt::format(
-        "  robot {}: {} samples unreachable, {} at a joint limit; chatter at {} of {} samples in "
-        "the cut, min margin {:.2f} (line {}); largest form error {:.1f} um (line {})\n"
-        "  stable depths: {} computed, the rest interpolated (checked {}, largest error {:.2g} "
-        "%)\n",
-        run.robot->model().name(), r.unreachable, r.joint_limit, r.chatter, r.stability_samples,
-        r.min_margin, r.min_margin_line, r.max_form_error_m * 1e6, r.max_form_error_line,
-        r.exact_limits, r.checked, r.shortcut_max_error * 100.0);
-  }
+}
 
-  CommandResult result;
-  if (run.improvement)
-    summary["optimization"] =
-        improvement_json(*run.improvement, *run.robot_setup, result, robot_text);
-  if (samples_file.empty())
-    result.tables.emplace_back("samples", std::move(samples));
-  else
-    result.streamed.emplace_back("samples.csv", samples_file);
-  result.tables.emplace_back("samples_preview", std::move(preview));
-  // A long program's moves and a fine stock are millions of cells: the
-  // command writes them as text (a tenth of the memory); library callers
-  // get tables.
-  if (samples_file.empty()) {
+// The message's warning when the robot cannot reach some samples (empty
+// when it reaches them all).
+std::string unreachable_warning(const robot_path::RobotPathSummary& r) {
+  if (r.unreachable == 0)
+    return std::string();
+  std::string lines;
+  for (std::size_t k = 0; k < std::min<std::size_t>(r.unreachable_lines.size(), 10); ++k)
+    lines += (k ? ", " : "") + std::to_string(r.unreachable_lines[k]);
+  return fmt::format(
+      "  warning: the robot cannot reach {} samples (lines {}{}); their "
+      "columns are the inverse kinematics' best attempt\n",
+      r.unreachable, lines, r.unreachable_lines.size() > 10 ? ", ..." : "");
+}
+
+// The message's lines on the robot along the path.
+std::string robot_path_message(const std::string& robot_name,
+                               const robot_path::RobotPathSummary& r) {
+  return fmt::format(
+      "  robot {}: {} samples unreachable, {} at a joint limit; chatter at {} of {} samples in "
+      "the cut, min margin {:.2f} (line {}); largest form error {:.1f} um (line {})\n"
+      "  stable depths: {} computed, the rest interpolated (checked {}, largest error {:.2g} "
+      "%)\n",
+      robot_name, r.unreachable, r.joint_limit, r.chatter, r.stability_samples, r.min_margin,
+      r.min_margin_line, r.max_form_error_m * 1e6, r.max_form_error_line, r.exact_limits, r.checked,
+      r.shortcut_max_error * 100.0);
+}
+
+// moves.csv and stock.csv. A long program's moves and a fine stock are
+// millions of cells: the command (`as_text`) writes them as text (a tenth
+// of the memory); library callers get tables.
+void add_moves_and_stock(const job::Job& job, const analysis::ProgramRun& run, bool as_text,
+                         CommandResult& result) {
+  const toolpath::ProgramAnalysis& analysis = run.analysis;
+  if (!as_text) {
     io::CsvTable moves(move_columns()), stock({"x_mm", "y_mm", "z_mm"});
     TableRow move_row(moves), stock_row(stock);
     add_moves(move_row, analysis);
@@ -794,13 +831,18 @@ CommandResult compute_toolpath(const io::Job& job, int threads,
     result.texts.emplace_back("moves.csv", moves.take());
     result.texts.emplace_back("stock.csv", stock.take());
   }
-  result.summary = std::move(summary);
+}
+
+// The message's lines on the program: its totals, its warnings and the
+// path away from the stock.
+std::string program_message(const job::ToolpathSettings& settings, const toolpath::Program& program,
+                            const toolpath::ProgramAnalysis& analysis) {
   std::string warnings_text;
   for (const auto& warning : analysis.warnings)
     warnings_text += fmt::format(
         "  warning (line {}{}): {}\n", warning.line,
         warning.count > 1 ? fmt::format(", {} times", warning.count) : std::string(), warning.text);
-  result.message = fmt::format(
+  std::string message = fmt::format(
       "toolpath: {} ({}), {} moves, {} samples ({} in the cut)\n"
       "  cutting {:.1f} s, air {:.1f} s, removed {:.6g} mm^3\n"
       "  max force {:.1f} N (line {}), torque {:.3f} N·m (line {}), power {:.0f} W (line {})\n{}",
@@ -812,10 +854,95 @@ CommandResult compute_toolpath(const io::Job& job, int threads,
   // Retracts and approaches leave some path away from the stock in most
   // programs (summary.json has it); the message says so when it is long.
   if (analysis.unsampled_length_m > 1.0)
-    result.message +=
+    message +=
         fmt::format("  {:.1f} m of path away from the stock ({:.1f} s): timed, not sampled\n",
                     analysis.unsampled_length_m, analysis.unsampled_time_s);
-  result.message += robot_text;
+  return message;
+}
+
+}  // namespace
+
+CommandResult compute_toolpath(const job::Job& job, int threads,
+                               const std::filesystem::path& samples_file, const Progress& progress,
+                               bool optimize, const analysis::BlockSharing* sharing) {
+  // Samples stream to the file (or into a table for library callers); a
+  // preview of at most kPreviewRows evenly spread rows goes to the report,
+  // the stride chosen from the program's length before the run.
+  int dof = 0;
+  std::size_t preview_stride = 1, seen = 0;
+  io::CsvTable samples = sample_table(), preview = sample_table();
+  std::ofstream stream;
+  std::optional<io::CsvText> streamed;  // samples.csv's rows, written block by block
+  analysis::ProgramRunOptions options;
+  options.threads = threads;
+  options.optimize = optimize;
+  options.sharing = sharing;
+  options.scratch_dir = samples_file.empty() ? std::filesystem::path() : samples_file.parent_path();
+  if (progress)
+    options.progress = [&](double fraction) { progress("toolpath", fraction); };
+  options.on_start = [&](const analysis::ProgramRun& run) {
+    dof = run.robot ? run.robot->model().dof() : 0;
+    samples = sample_table(dof);
+    preview = sample_table(dof);
+    preview_stride = preview_stride_for(job, run);
+    if (!samples_file.empty()) {
+      stream.open(samples_file, std::ios::binary | std::ios::trunc);
+      if (!stream)
+        throw Error("cannot write " + samples_file.string());
+      streamed.emplace(sample_columns(dof));
+    }
+  };
+  options.on_samples = [&](std::span<const toolpath::PathSample> block,
+                           std::span<const robot_path::RobotSample> robot) {
+    TableRow in_memory(samples), preview_row(preview);
+    for (std::size_t i = 0; i < block.size(); ++i) {
+      const robot_path::RobotSample* r = robot.empty() ? nullptr : &robot[i];
+      if (streamed)
+        add_sample(*streamed, block[i], r);
+      else
+        add_sample(in_memory, block[i], r);
+      if (seen++ % preview_stride == 0)
+        add_sample(preview_row, block[i], r);
+    }
+    if (streamed) {
+      const std::string text = streamed->take();
+      stream.write(text.data(), static_cast<std::streamsize>(text.size()));
+      if (!stream)
+        throw Error("cannot write " + samples_file.string());
+    }
+  };
+  const analysis::ProgramRun run = analysis::run_program(job, options);
+  if (stream.is_open()) {
+    stream.flush();
+    if (!stream)
+      throw Error("cannot write " + samples_file.string());
+  }
+
+  nlohmann::json summary = toolpath_summary(job, run);
+  if (!job.name.empty())
+    summary["name"] = job.name;
+  std::string robot_text;
+  if (run.robot) {
+    const robot_path::RobotPathSummary& r = *run.robot_summary;
+    robot_text += unreachable_warning(r);
+    summary["robot_along_path"] = robot_summary(*run.robot_setup, *run.robot, r);
+    robot_text += robot_path_message(run.robot->model().name(), r);
+  }
+
+  CommandResult result;
+  if (run.improvement) {
+    summary["optimization"] = improvement_json(*run.improvement, *run.robot_setup);
+    add_improvement_files(*run.improvement, result);
+    robot_text += improvement_message(*run.improvement);
+  }
+  if (samples_file.empty())
+    result.tables.emplace_back("samples", std::move(samples));
+  else
+    result.streamed.emplace_back("samples.csv", samples_file);
+  result.tables.emplace_back("samples_preview", std::move(preview));
+  add_moves_and_stock(job, run, !samples_file.empty(), result);
+  result.summary = std::move(summary);
+  result.message = program_message(*job.toolpath, run.program, run.analysis) + robot_text;
   return result;
 }
 

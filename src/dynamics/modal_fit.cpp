@@ -543,6 +543,74 @@ void fit_residues(const Data& data, ModalParameters& p, const Ranges& ranges) {
 
 // ---------------------------------------------------------------- refinement
 
+/// Where refine's parameter vector θ holds each value: the poles (Re, Im)
+/// first, then per output its residues (Re, Im) and each band's lower and
+/// upper residual.
+struct ThetaLayout {
+  Index modes, outputs, nb, per_output, columns;
+};
+
+/// θ of the parameters q.
+Eigen::VectorXd pack(const ThetaLayout& l, const ModalParameters& q) {
+  const Index modes = l.modes;
+  const Index outputs = l.outputs;
+  const Index nb = l.nb;
+  const Index per_output = l.per_output;
+  const Index columns = l.columns;
+  Eigen::VectorXd theta(columns);
+  for (Index r = 0; r < modes; ++r) {
+    theta[2 * r] = q.lambda[static_cast<std::size_t>(r)].real();
+    theta[2 * r + 1] = q.lambda[static_cast<std::size_t>(r)].imag();
+  }
+  for (Index o = 0; o < outputs; ++o) {
+    const Index base = 2 * modes + o * per_output;
+    for (Index r = 0; r < modes; ++r) {
+      theta[base + 2 * r] = q.residue(r, o).real();
+      theta[base + 2 * r + 1] = q.residue(r, o).imag();
+    }
+    for (Index b = 0; b < nb; ++b) {
+      theta[base + 2 * modes + 2 * b] = q.lower(b, o);
+      theta[base + 2 * modes + 2 * b + 1] = q.upper(b, o);
+    }
+  }
+  return theta;
+}
+
+/// The parameters q of θ.
+void unpack(const ThetaLayout& l, const Eigen::VectorXd& theta, ModalParameters& q) {
+  const Index modes = l.modes;
+  const Index outputs = l.outputs;
+  const Index nb = l.nb;
+  const Index per_output = l.per_output;
+  for (Index r = 0; r < modes; ++r)
+    q.lambda[static_cast<std::size_t>(r)] = cd(theta[2 * r], theta[2 * r + 1]);
+  for (Index o = 0; o < outputs; ++o) {
+    const Index base = 2 * modes + o * per_output;
+    for (Index r = 0; r < modes; ++r)
+      q.residue(r, o) = cd(theta[base + 2 * r], theta[base + 2 * r + 1]);
+    for (Index b = 0; b < nb; ++b) {
+      q.lower(b, o) = theta[base + 2 * modes + 2 * b];
+      q.upper(b, o) = theta[base + 2 * modes + 2 * b + 1];
+    }
+  }
+}
+
+/// Whether every pole of θ is physical (positive frequency, damping in
+/// (0, kMaxDamping)) and inside the band its mode was found in.
+bool physical(const Eigen::VectorXd& theta, Index modes, const ModalParameters& p,
+              const std::vector<FitBand>& bands) {
+  for (Index r = 0; r < modes; ++r) {
+    const cd lambda(theta[2 * r], theta[2 * r + 1]);
+    const double omega_n = std::abs(lambda), zeta = -lambda.real() / omega_n;
+    const FitBand& band = bands[static_cast<std::size_t>(p.band[static_cast<std::size_t>(r)])];
+    if (!(lambda.imag() > 0.0 && zeta > 0.0 && zeta < kMaxDamping &&
+          omega_n >= kTwoPi * band.low_hz && omega_n <= kTwoPi * band.high_hz)) {
+      return false;
+    }
+  }
+  return true;
+}
+
 /// Nonlinear least-squares refinement of poles, residues and residuals
 /// together on the output error Σ |w (Ĥ − H)|², w = 1 / |H|, over all bands:
 /// the modal-model formulation of the maximum-likelihood estimator of
@@ -568,50 +636,7 @@ void refine(const Data& data, ModalParameters& p, const Ranges& ranges,
   if (modes == 0 || rows <= columns)
     return;
 
-  auto pack = [&](const ModalParameters& q) {
-    Eigen::VectorXd theta(columns);
-    for (Index r = 0; r < modes; ++r) {
-      theta[2 * r] = q.lambda[static_cast<std::size_t>(r)].real();
-      theta[2 * r + 1] = q.lambda[static_cast<std::size_t>(r)].imag();
-    }
-    for (Index o = 0; o < outputs; ++o) {
-      const Index base = 2 * modes + o * per_output;
-      for (Index r = 0; r < modes; ++r) {
-        theta[base + 2 * r] = q.residue(r, o).real();
-        theta[base + 2 * r + 1] = q.residue(r, o).imag();
-      }
-      for (Index b = 0; b < nb; ++b) {
-        theta[base + 2 * modes + 2 * b] = q.lower(b, o);
-        theta[base + 2 * modes + 2 * b + 1] = q.upper(b, o);
-      }
-    }
-    return theta;
-  };
-  auto unpack = [&](const Eigen::VectorXd& theta, ModalParameters& q) {
-    for (Index r = 0; r < modes; ++r)
-      q.lambda[static_cast<std::size_t>(r)] = cd(theta[2 * r], theta[2 * r + 1]);
-    for (Index o = 0; o < outputs; ++o) {
-      const Index base = 2 * modes + o * per_output;
-      for (Index r = 0; r < modes; ++r)
-        q.residue(r, o) = cd(theta[base + 2 * r], theta[base + 2 * r + 1]);
-      for (Index b = 0; b < nb; ++b) {
-        q.lower(b, o) = theta[base + 2 * modes + 2 * b];
-        q.upper(b, o) = theta[base + 2 * modes + 2 * b + 1];
-      }
-    }
-  };
-  auto physical = [&](const Eigen::VectorXd& theta) {
-    for (Index r = 0; r < modes; ++r) {
-      const cd lambda(theta[2 * r], theta[2 * r + 1]);
-      const double omega_n = std::abs(lambda), zeta = -lambda.real() / omega_n;
-      const FitBand& band = bands[static_cast<std::size_t>(p.band[static_cast<std::size_t>(r)])];
-      if (!(lambda.imag() > 0.0 && zeta > 0.0 && zeta < kMaxDamping &&
-            omega_n >= kTwoPi * band.low_hz && omega_n <= kTwoPi * band.high_hz)) {
-        return false;
-      }
-    }
-    return true;
-  };
+  const ThetaLayout layout{modes, outputs, nb, per_output, columns};
 
   std::vector<double> floors(static_cast<std::size_t>(outputs));
   for (Index o = 0; o < outputs; ++o)
@@ -679,7 +704,7 @@ void refine(const Data& data, ModalParameters& p, const Ranges& ranges,
   // An RMS relative error of 1e-13 is rounding, far below any measurement:
   // past it the steps only chase round-off (noise-free data).
   const double converged_cost = 1e-26 * static_cast<double>(rows);
-  Eigen::VectorXd theta = pack(p);
+  Eigen::VectorXd theta = pack(layout, p);
   Eigen::VectorXd e(rows), trial_e(rows);
   Eigen::MatrixXd jacobian(rows, columns);
   double cost = evaluate(theta, e, &jacobian);
@@ -700,7 +725,7 @@ void refine(const Data& data, ModalParameters& p, const Ranges& ranges,
       target.head(columns) = -qte;
       const Eigen::VectorXd step = damped.householderQr().solve(target).cwiseQuotient(scale);
       const Eigen::VectorXd candidate = theta + step;
-      if (step.allFinite() && physical(candidate)) {
+      if (step.allFinite() && physical(candidate, modes, p, bands)) {
         const double trial = evaluate(candidate, trial_e, nullptr);
         if (trial < cost) {
           const double decrease = cost - trial;
@@ -709,7 +734,7 @@ void refine(const Data& data, ModalParameters& p, const Ranges& ranges,
           mu = std::max(mu * 0.1, 1e-12);
           accepted = true;
           if (decrease <= kRelativeDecrease * cost) {
-            unpack(theta, p);
+            unpack(layout, theta, p);
             return;
           }
           break;
@@ -721,7 +746,7 @@ void refine(const Data& data, ModalParameters& p, const Ranges& ranges,
       break;
     cost = evaluate(theta, e, &jacobian);
   }
-  unpack(theta, p);
+  unpack(layout, theta, p);
 }
 
 // ---------------------------------------------------------------- quality

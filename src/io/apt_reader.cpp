@@ -1,6 +1,14 @@
 // APT / CL data reader (ISO 4343-style cutter location source as NX, CATIA,
 // Creo, Mastercam and Fusion posts write it) into a toolpath::Program in SI.
 //
+// Length (issue #32): this file cannot be split without harm. It is one
+// interpreter: class AptReader's record handlers (UNITS, FEDRAT, SPINDL,
+// CUTTER, LOADTL, CIRCLE, MSYS, CYCLE, DELAY, FROM, GOTO) all read and write
+// one state machine (units, feed, spindle, tool, frame, pending circle, cycle,
+// current point and axis), and the record splitting above it serves only it.
+// A second file would need the class in a header of its own, for no reader
+// of it but this one.
+//
 // Conventions, with what supports them:
 //  * Records end at the line end; a `$` at the end of a line continues the
 //    record on the next line; `$$` starts a comment (ISO 4343 aptsource).

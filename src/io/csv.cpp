@@ -8,7 +8,7 @@
 #include <stdexcept>
 
 #include "robomill/core/error.hpp"
-#include "text.hpp"
+#include "robomill/core/text.hpp"
 
 namespace robomill::io {
 namespace {

@@ -9,9 +9,9 @@
 #include <vector>
 
 #include "robomill/core/error.hpp"
+#include "robomill/core/text.hpp"
 #include "robomill/io/csv.hpp"
 #include "robomill/io/output_bundle.hpp"
-#include "text.hpp"
 
 namespace robomill::io {
 namespace {

@@ -2,6 +2,15 @@
 // mills, into one toolpath::Program in SI units (DESIGN.md §1, the toolpath
 // stage).
 //
+// Length (issue #32): this file cannot be split without harm. It is one
+// interpreter: class Interpreter's members (decode, modes, feed, spindle,
+// moves, arcs, canned cycles, G28/G53) read and write one modal state (units,
+// distance and feed modes, plane, motion mode, offsets, position, cycle
+// state), and the lexer and G-code tables above it exist only for it and
+// share its private types (Word, Block, Group, Motion). A second file would
+// need that class and those types in a header of their own, for no reader
+// of them but this interpreter.
+//
 // Dialect. There is no single G-code; we read the common core that Fanuc-,
 // Haas-, Mastercam- and Fusion-style posts write, and where controls differ we
 // follow LinuxCNC's rs274ngc interpreter, because it is the one freely

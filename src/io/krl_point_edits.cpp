@@ -36,9 +36,9 @@ std::vector<std::string_view> lines_of(std::string_view text) {
 
 }  // namespace
 
-toolpath::WritableMoves krl_writable_moves(const toolpath::Program& program) {
+robot_path::WritableMoves krl_writable_moves(const toolpath::Program& program) {
   const std::size_t n = program.moves.size();
-  toolpath::WritableMoves writable;
+  robot_path::WritableMoves writable;
   writable.end.assign(n, 0);
   writable.points.assign(n, 0);
   writable.reason.assign(n, std::string());
@@ -78,7 +78,7 @@ toolpath::WritableMoves krl_writable_moves(const toolpath::Program& program) {
 
 KrlPointEdits write_krl_point_edits(std::string_view src, std::string_view dat,
                                     const toolpath::Program& program,
-                                    const std::vector<toolpath::LineCorrection>& corrections,
+                                    const std::vector<robot_path::LineCorrection>& corrections,
                                     const std::vector<std::string>& comments) {
   KrlPointEdits result;
   // Per site, the correction that moves it; per .src line, what goes before.
@@ -98,7 +98,7 @@ KrlPointEdits write_krl_point_edits(std::string_view src, std::string_view dat,
       const auto it = at_site.find(toolpath::FrameSite{in_dat, a.line, a.ordinal});
       if (a.ordinal < 0 || it == at_site.end())
         return std::nullopt;
-      const toolpath::LineCorrection& c = corrections[it->second];
+      const robot_path::LineCorrection& c = corrections[it->second];
       const toolpath::Move& move = program.moves[c.move];
       const toolpath::FrameSource& source = *program.frame_sources[c.move];
       // The end's numbers moved by the offset in the base.
@@ -126,7 +126,7 @@ KrlPointEdits write_krl_point_edits(std::string_view src, std::string_view dat,
       std::string before = in_dat ? std::string() : "; " + comment + "\n";
       const std::size_t count = c.points.size();
       for (std::size_t k = 0; k < count; ++k) {
-        const toolpath::CorrectionPoint& p = c.points[k];
+        const robot_path::CorrectionPoint& p = c.points[k];
         const Eigen::Vector3d at =
             in_base_mm(source, move.start_m + p.u * (move.end_m - move.start_m) + p.offset_m);
         before +=

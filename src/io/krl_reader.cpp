@@ -1,5 +1,13 @@
 // KUKA KRL reader: a .src program and its .dat into a toolpath::Program in SI.
 //
+// Length (issue #32): this file cannot be split without harm. It is one
+// interpreter: class KrlReader's members (values, declarations, the .dat,
+// motions, CIRC, system variables, BAS, control flow) share one state machine
+// (declared positions, arrays, INT/REAL variables, FDATs, base, tool, current
+// frame, loop and block tables), and the statement splitting and frame
+// helpers above it serve only it. A second file would need the whole class
+// in a header of its own, for no reader of it but this one.
+//
 // Conventions, with what supports them:
 //  * A frame {X, Y, Z, A, B, C} is the TCP in the base in force: X Y Z in mm,
 //    A B C in degrees, rotation = Rz(A)·Ry(B)·Rx(C) (KUKA's Z-Y'-X'' angles,
@@ -242,6 +250,10 @@ class KrlReader {
   // The program.
   void run(const std::vector<Statement>& statements);
   void execute(const std::vector<Statement>& statements, std::size_t& pc);
+  void for_loop(const Statement& s, std::string_view rest, std::size_t& pc);
+  void end_for(const Statement& s, std::size_t& pc);
+  bool block_control(const Statement& s, std::string_view word, std::string_view rest,
+                     std::size_t& pc);
   void motion(const Statement& s, std::string_view word, std::string_view rest);
   void circ(const Statement& s, std::string_view rest, bool relative);
   void system_variable(const Statement& s);
@@ -1152,6 +1164,92 @@ void KrlReader::wait(const Statement& s, std::string_view rest) {
 // ---------------------------------------------------------------------------
 // The program: DEF ... END with FOR loops unrolled.
 
+// FOR I = a TO b [STEP c]: sets the counter and enters the body, or jumps
+// past ENDFOR when the loop is empty.
+void KrlReader::for_loop(const Statement& s, std::string_view rest, std::size_t& pc) {
+  // FOR I = a TO b [STEP c]
+  const std::size_t equals = rest.find('=');
+  const std::size_t to = rest.find(" TO ");
+  if (equals == std::string_view::npos || to == std::string_view::npos || to < equals)
+    fail(s.line, "FOR: expected FOR I = first TO last [STEP step]");
+  const std::string counter(pt::trim(rest.substr(0, equals)));
+  if (counter.empty() || leading_word(counter).size() != counter.size())
+    fail(s.line, "FOR: the counter must be an INT variable name");
+  std::string_view bounds = rest.substr(to + 4);
+  long long step = 1;
+  if (const std::size_t step_at = bounds.find(" STEP "); step_at != std::string_view::npos) {
+    step = integer(s, bounds.substr(step_at + 6));
+    bounds = bounds.substr(0, step_at);
+  }
+  if (step == 0)
+    fail(s.line, "FOR: STEP 0 never ends");
+  const long long first = integer(s, rest.substr(equals + 1, to - equals - 1));
+  const long long last = integer(s, bounds);
+  integers_[counter] = first;
+  const std::size_t end = loop_end_.at(pc - 1);
+  if ((step > 0 && first > last) || (step < 0 && first < last)) {
+    pc = end + 1;  // an empty loop
+    return;
+  }
+  loops_.push_back({counter, last, step, pc});
+}
+
+// ENDFOR: steps the counter and runs the body again until it passes the last value.
+void KrlReader::end_for(const Statement& s, std::size_t& pc) {
+  if (loops_.empty())
+    fail(s.line, "ENDFOR without FOR");
+  Loop& loop = loops_.back();
+  long long& counter = integers_[loop.counter];
+  counter += loop.step;
+  if ((loop.step > 0 && counter <= loop.last) || (loop.step < 0 && counter >= loop.last)) {
+    pc = loop.body;
+    return;
+  }
+  loops_.pop_back();
+}
+
+// WHILE, ENDWHILE, REPEAT, UNTIL, IF, ELSE and ENDIF: jumps to the statement
+// that runs next. False for any other statement.
+bool KrlReader::block_control(const Statement& s, std::string_view word, std::string_view rest,
+                              std::size_t& pc) {
+  if (word == "WHILE") {
+    if (!condition(s, word, rest))
+      pc = block_end_.at(pc - 1) + 1;  // past ENDWHILE
+    return true;
+  }
+  if (word == "ENDWHILE") {
+    pc = block_start_.at(pc - 1);  // the WHILE again, which tests its condition
+    return true;
+  }
+  if (word == "REPEAT" || word == "ENDIF")
+    return true;
+  if (word == "UNTIL") {
+    if (!condition(s, word, rest))
+      pc = block_start_.at(pc - 1) + 1;  // the body again
+    return true;
+  }
+  if (word == "IF") {
+    // IF condition THEN
+    std::string_view test = rest;
+    if (test.size() >= 5 && test.substr(test.size() - 5) == " THEN")
+      test = test.substr(0, test.size() - 5);
+    else if (test == "THEN" || test.empty())
+      fail(s.line, "IF: no condition; expected IF condition THEN");
+    else
+      fail(s.line, "IF " + pt::excerpt(rest) + ": expected IF condition THEN");
+    if (!condition(s, word, test)) {
+      const auto else_at = else_of_.find(pc - 1);
+      pc = (else_at != else_of_.end() ? else_at->second : block_end_.at(pc - 1)) + 1;
+    }
+    return true;
+  }
+  if (word == "ELSE") {
+    pc = block_end_.at(pc - 1) + 1;  // the IF branch ran: skip the ELSE branch
+    return true;
+  }
+  return false;
+}
+
 void KrlReader::execute(const std::vector<Statement>& statements, std::size_t& pc) {
   const Statement& s = statements[pc];
   const std::string_view text = s.text;
@@ -1174,88 +1272,18 @@ void KrlReader::execute(const std::vector<Statement>& statements, std::size_t& p
                      " inside the program: local subroutines and functions are "
                      "not modelled; unroll the program in the robot "
                      "post-processor");
-  if (word == "FOR") {
-    // FOR I = a TO b [STEP c]
-    const std::size_t equals = rest.find('=');
-    const std::size_t to = rest.find(" TO ");
-    if (equals == std::string_view::npos || to == std::string_view::npos || to < equals)
-      fail(s.line, "FOR: expected FOR I = first TO last [STEP step]");
-    const std::string counter(pt::trim(rest.substr(0, equals)));
-    if (counter.empty() || leading_word(counter).size() != counter.size())
-      fail(s.line, "FOR: the counter must be an INT variable name");
-    std::string_view bounds = rest.substr(to + 4);
-    long long step = 1;
-    if (const std::size_t step_at = bounds.find(" STEP "); step_at != std::string_view::npos) {
-      step = integer(s, bounds.substr(step_at + 6));
-      bounds = bounds.substr(0, step_at);
-    }
-    if (step == 0)
-      fail(s.line, "FOR: STEP 0 never ends");
-    const long long first = integer(s, rest.substr(equals + 1, to - equals - 1));
-    const long long last = integer(s, bounds);
-    integers_[counter] = first;
-    const std::size_t end = loop_end_.at(pc - 1);
-    if ((step > 0 && first > last) || (step < 0 && first < last)) {
-      pc = end + 1;  // an empty loop
-      return;
-    }
-    loops_.push_back({counter, last, step, pc});
-    return;
-  }
-  if (word == "ENDFOR") {
-    if (loops_.empty())
-      fail(s.line, "ENDFOR without FOR");
-    Loop& loop = loops_.back();
-    long long& counter = integers_[loop.counter];
-    counter += loop.step;
-    if ((loop.step > 0 && counter <= loop.last) || (loop.step < 0 && counter >= loop.last)) {
-      pc = loop.body;
-      return;
-    }
-    loops_.pop_back();
-    return;
-  }
+  if (word == "FOR")
+    return for_loop(s, rest, pc);
+  if (word == "ENDFOR")
+    return end_for(s, pc);
   if (word == "INTERRUPT" || (word == "GLOBAL" && pt::starts_with_word(rest, "INTERRUPT"))) {
     // The INI fold's stop-message handler (INTERRUPT DECL 3 WHEN $STOPMESS ...):
     // it acts only when the robot faults.
     note_once("INTERRUPT", s.line, "INTERRUPT: interrupt handlers are not run");
     return;
   }
-  if (word == "WHILE") {
-    if (!condition(s, word, rest))
-      pc = block_end_.at(pc - 1) + 1;  // past ENDWHILE
+  if (block_control(s, word, rest, pc))
     return;
-  }
-  if (word == "ENDWHILE") {
-    pc = block_start_.at(pc - 1);  // the WHILE again, which tests its condition
-    return;
-  }
-  if (word == "REPEAT" || word == "ENDIF")
-    return;
-  if (word == "UNTIL") {
-    if (!condition(s, word, rest))
-      pc = block_start_.at(pc - 1) + 1;  // the body again
-    return;
-  }
-  if (word == "IF") {
-    // IF condition THEN
-    std::string_view test = rest;
-    if (test.size() >= 5 && test.substr(test.size() - 5) == " THEN")
-      test = test.substr(0, test.size() - 5);
-    else if (test == "THEN" || test.empty())
-      fail(s.line, "IF: no condition; expected IF condition THEN");
-    else
-      fail(s.line, "IF " + pt::excerpt(rest) + ": expected IF condition THEN");
-    if (!condition(s, word, test)) {
-      const auto else_at = else_of_.find(pc - 1);
-      pc = (else_at != else_of_.end() ? else_at->second : block_end_.at(pc - 1)) + 1;
-    }
-    return;
-  }
-  if (word == "ELSE") {
-    pc = block_end_.at(pc - 1) + 1;  // the IF branch ran: skip the ELSE branch
-    return;
-  }
   if (word == "CONTINUE") {
     // Stops the advance run from halting at the next statement: timing on the
     // robot, no effect on the path.

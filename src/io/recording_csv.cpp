@@ -18,8 +18,8 @@
 #include <vector>
 
 #include "recording_detail.hpp"
+#include "robomill/core/text.hpp"
 #include "robomill/io/recording.hpp"
-#include "text.hpp"
 
 namespace robomill::io {
 namespace recording_detail {

@@ -154,49 +154,48 @@ double spectral_radius_at(const stability::RegenerativeModel& model, double spin
   return solver.solve(model.sample(axial_depth_m, steps), 1.0).spectral_radius;
 }
 
-CuttingAdvice advise_cutting(const tool::Tool& tool, const cutting::CuttingLaw& law,
-                             const cutting::MillingProcess& process,
-                             const std::vector<dynamics::ModalModel>& stations,
-                             const AdviceLimits& limits, const AdviceOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
-  const double depth_max = options.limit.depth_max_m;
-  const double step = limits.depth_step_m;
-  if (stations.empty())
-    throw std::invalid_argument("advise_cutting: no station (structure) given");
-  if (!(limits.speed_min_rad_s > 0.0) || limits.speed_count < 1 ||
-      (limits.speed_count > 1 && !(limits.speed_max_rad_s > limits.speed_min_rad_s)))
-    throw std::invalid_argument("advise_cutting: the speed range must be positive and increasing");
-  if (!(depth_max > 0.0) || depth_max > tool.overhang_m() * (1.0 + 1e-12))
-    throw std::invalid_argument("advise_cutting: depth_max must lie in (0, tool overhang]");
-  if (!(step > 0.0) || step > depth_max * (1.0 + 1e-12) || depth_max / step > 100000.0)
-    throw std::invalid_argument(
-        "advise_cutting: the depth step must lie in (depth_max / 100000, depth_max]");
-  if (!(limits.stability_margin > 0.0 && limits.stability_margin <= 1.0))
-    throw std::invalid_argument("advise_cutting: the stability margin must lie in (0, 1]");
-  if (limits.max_offset_m && !(*limits.max_offset_m > 0.0))
-    throw std::invalid_argument("advise_cutting: the offset limit must be positive");
-  if (limits.refine_count < 0 || options.peaks < 0)
-    throw std::invalid_argument("advise_cutting: negative refine or peak count");
+namespace {
 
-  const int teeth = tool.teeth();
-  const int depth_steps = static_cast<int>(std::floor(depth_max / step * (1.0 + 1e-12)));
-  std::vector<stability::RegenerativeModel> models;
-  std::vector<PostureDynamics> dynamics;
-  models.reserve(stations.size());
-  for (const dynamics::ModalModel& station : stations) {
-    models.emplace_back(tool, law, process, station);
-    dynamics.push_back(modal_dynamics(station));
-  }
-  const LimitEngine engine(models, options.limit, options.threads);
-
+/// The scan of advise_cutting over spindle speeds: at each speed the
+/// stable depth step, lowered by bisection to the offset limit.
+struct AdviceScan {
+  const tool::Tool& tool;
+  const cutting::CuttingLaw& law;
+  const cutting::MillingProcess& process;
+  const AdviceLimits& limits;
+  const AdviceOptions& options;
+  const std::vector<PostureDynamics>& dynamics;
+  const LimitEngine& engine;
+  const double step;
+  const int depth_steps;
+  const int teeth;
   // The milling force depends on the spindle angle, not on the speed (the
   // chip thickness is set by f_z), so its Fourier coefficients are computed
   // once per depth step at a reference speed; at another speed only the
   // period scales (τ ∝ 1/Ω). Filled on demand, depth steps in parallel.
-  const double reference_speed = limits.speed_min_rad_s;
-  std::vector<ForceHarmonics> series(static_cast<std::size_t>(depth_steps) + 1);
+  const double reference_speed;
+  std::vector<ForceHarmonics> series;
   int series_ready = 0;  // steps 1 … series_ready are filled
-  auto ensure_series = [&](int upto) {
+
+  AdviceScan(const tool::Tool& tool, const cutting::CuttingLaw& law,
+             const cutting::MillingProcess& process, const AdviceLimits& limits,
+             const AdviceOptions& options, const std::vector<PostureDynamics>& dynamics,
+             const LimitEngine& engine, int depth_steps)
+      : tool(tool),
+        law(law),
+        process(process),
+        limits(limits),
+        options(options),
+        dynamics(dynamics),
+        engine(engine),
+        step(limits.depth_step_m),
+        depth_steps(depth_steps),
+        teeth(tool.teeth()),
+        reference_speed(limits.speed_min_rad_s),
+        series(static_cast<std::size_t>(depth_steps) + 1) {}
+
+  /// Fills the force series of depth steps 1 … upto.
+  void ensure_series(int upto) {
     if (upto <= series_ready)
       return;
     const int first = series_ready + 1;
@@ -211,9 +210,10 @@ CuttingAdvice advise_cutting(const tool::Tool& tool, const cutting::CuttingLaw& 
           series[std::size_t(j)] = force_harmonics(force, limits.samples, limits.harmonics);
         });
     series_ready = upto;
-  };
+  }
+
   // The expected offset at depth step j and speed Ω: the largest over stations.
-  auto offset_at = [&](OffsetScratch& scratch, int j, double spindle_rad_s) {
+  double offset_at(OffsetScratch& scratch, int j, double spindle_rad_s) const {
     const ForceHarmonics& base = series[std::size_t(j)];
     scratch.series.coefficients = base.coefficients;  // same size after the first: no allocation
     scratch.series.samples = base.samples;
@@ -226,14 +226,16 @@ CuttingAdvice advise_cutting(const tool::Tool& tool, const cutting::CuttingLaw& 
       largest = std::max(largest, r.measure(limits.measure));
     }
     return largest;
-  };
-  auto fill_depth = [&](OffsetScratch& scratch, SpeedAdvice& a, int j) {
+  }
+
+  void fill_depth(OffsetScratch& scratch, SpeedAdvice& a, int j) const {
     a.depth_m = j * step;
     a.offset_m = j > 0 ? offset_at(scratch, j, a.spindle_rad_s) : 0.0;
     a.mrr_m3_per_s = material_removal_rate(a.spindle_rad_s, a.depth_m, process, teeth);
-  };
+  }
 
-  auto evaluate = [&](const std::vector<double>& speeds, int stage) {
+  /// One row per speed, stage 0 (the scan) or 1 (the fine rescan).
+  std::vector<SpeedAdvice> evaluate(const std::vector<double>& speeds, int stage) {
     const auto curves = engine.at(speeds);
     std::vector<SpeedAdvice> rows(speeds.size());
     std::vector<int> stable_steps(speeds.size(), 0);
@@ -283,10 +285,98 @@ CuttingAdvice advise_cutting(const tool::Tool& tool, const cutting::CuttingLaw& 
       }
     });
     return rows;
+  }
+};
+
+/// Floquet re-check of the advised point (all stations); with a Floquet
+/// method the depth steps down until that method finds it stable.
+void recheck(const std::vector<stability::RegenerativeModel>& models,
+             const std::vector<dynamics::ModalModel>& stations, const AdviceOptions& options,
+             const AdviceScan& scan, SpeedAdvice& chosen, CuttingAdvice& advice) {
+  const double step = scan.step;
+  const int depth_steps = scan.depth_steps;
+  const int teeth = scan.teeth;
+  const auto method = floquet_method(options.limit.method);
+  int steps = options.limit.discretization;
+  if (!method) {
+    double highest_hz = 0.0;
+    for (const auto& station : stations)
+      highest_hz = std::max(highest_hz, station.highest_frequency_hz());
+    const double tau = kTwoPi / (teeth * std::max(chosen.spindle_rad_s, 1e-300));
+    steps = std::max(options.check_steps, static_cast<int>(std::ceil(2.0 * highest_hz * tau)));
+  }
+  auto radius = [&](double spindle, double depth) {
+    double largest = 0.0;
+    for (const auto& model : models)
+      largest = std::max(largest,
+                         spectral_radius_at(model, spindle, depth,
+                                            method.value_or(stability::FloquetMethod::fdm), steps));
+    return largest;
   };
+  int j = static_cast<int>(std::lround(chosen.depth_m / step));
+  if (j > 0 && (method || steps <= options.max_check_steps)) {
+    advice.check.done = true;
+    advice.check.method = std::string(to_string(method ? options.limit.method : LimitMethod::fdm));
+    advice.check.steps = steps;
+    advice.check.spectral_radius = radius(chosen.spindle_rad_s, j * step);
+    // With a Floquet method the advice must be stable by that same method.
+    while (method && j > 0 && advice.check.spectral_radius >= 1.0) {
+      --j;
+      ++advice.stepped_down;
+      advice.check.spectral_radius = j > 0 ? radius(chosen.spindle_rad_s, j * step) : 0.0;
+    }
+    if (advice.stepped_down > 0) {
+      OffsetScratch scratch;
+      scratch.workspaces.resize(scan.dynamics.size());
+      scan.fill_depth(scratch, chosen, j);
+    }
+    advice.check.next_done = j + 1 <= depth_steps;
+    if (advice.check.next_done)
+      advice.check.next_spectral_radius = radius(chosen.spindle_rad_s, (j + 1) * step);
+  }
+}
+
+}  // namespace
+
+CuttingAdvice advise_cutting(const tool::Tool& tool, const cutting::CuttingLaw& law,
+                             const cutting::MillingProcess& process,
+                             const std::vector<dynamics::ModalModel>& stations,
+                             const AdviceLimits& limits, const AdviceOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  const double depth_max = options.limit.depth_max_m;
+  const double step = limits.depth_step_m;
+  if (stations.empty())
+    throw std::invalid_argument("advise_cutting: no station (structure) given");
+  if (!(limits.speed_min_rad_s > 0.0) || limits.speed_count < 1 ||
+      (limits.speed_count > 1 && !(limits.speed_max_rad_s > limits.speed_min_rad_s)))
+    throw std::invalid_argument("advise_cutting: the speed range must be positive and increasing");
+  if (!(depth_max > 0.0) || depth_max > tool.overhang_m() * (1.0 + 1e-12))
+    throw std::invalid_argument("advise_cutting: depth_max must lie in (0, tool overhang]");
+  if (!(step > 0.0) || step > depth_max * (1.0 + 1e-12) || depth_max / step > 100000.0)
+    throw std::invalid_argument(
+        "advise_cutting: the depth step must lie in (depth_max / 100000, depth_max]");
+  if (!(limits.stability_margin > 0.0 && limits.stability_margin <= 1.0))
+    throw std::invalid_argument("advise_cutting: the stability margin must lie in (0, 1]");
+  if (limits.max_offset_m && !(*limits.max_offset_m > 0.0))
+    throw std::invalid_argument("advise_cutting: the offset limit must be positive");
+  if (limits.refine_count < 0 || options.peaks < 0)
+    throw std::invalid_argument("advise_cutting: negative refine or peak count");
+
+  const int teeth = tool.teeth();
+  const int depth_steps = static_cast<int>(std::floor(depth_max / step * (1.0 + 1e-12)));
+  std::vector<stability::RegenerativeModel> models;
+  std::vector<PostureDynamics> dynamics;
+  models.reserve(stations.size());
+  for (const dynamics::ModalModel& station : stations) {
+    models.emplace_back(tool, law, process, station);
+    dynamics.push_back(modal_dynamics(station));
+  }
+  const LimitEngine engine(models, options.limit, options.threads);
+
+  AdviceScan scan(tool, law, process, limits, options, dynamics, engine, depth_steps);
 
   CuttingAdvice advice;
-  advice.scan = evaluate(
+  advice.scan = scan.evaluate(
       stability::linear_range(limits.speed_min_rad_s, limits.speed_max_rad_s, limits.speed_count),
       0);
   const auto better = [](const SpeedAdvice& a, const SpeedAdvice& b) {
@@ -319,52 +409,14 @@ CuttingAdvice advise_cutting(const tool::Tool& tool, const cutting::CuttingLaw& 
     const double hi = advice.scan[best + 1 == n ? best : best + 1].spindle_rad_s;
     std::vector<double> fine = stability::linear_range(lo, hi, limits.refine_count + 2);
     fine = std::vector<double>(fine.begin() + 1, fine.end() - 1);
-    const std::vector<SpeedAdvice> rows = evaluate(fine, 1);
+    const std::vector<SpeedAdvice> rows = scan.evaluate(fine, 1);
     for (const SpeedAdvice& row : rows)
       if (better(row, chosen))
         chosen = row;
     advice.scan.insert(advice.scan.end(), rows.begin(), rows.end());
   }
 
-  // Floquet re-check of the advised point (all stations).
-  const auto method = floquet_method(options.limit.method);
-  int steps = options.limit.discretization;
-  if (!method) {
-    double highest_hz = 0.0;
-    for (const auto& station : stations)
-      highest_hz = std::max(highest_hz, station.highest_frequency_hz());
-    const double tau = kTwoPi / (teeth * std::max(chosen.spindle_rad_s, 1e-300));
-    steps = std::max(options.check_steps, static_cast<int>(std::ceil(2.0 * highest_hz * tau)));
-  }
-  auto radius = [&](double spindle, double depth) {
-    double largest = 0.0;
-    for (const auto& model : models)
-      largest = std::max(largest,
-                         spectral_radius_at(model, spindle, depth,
-                                            method.value_or(stability::FloquetMethod::fdm), steps));
-    return largest;
-  };
-  int j = static_cast<int>(std::lround(chosen.depth_m / step));
-  if (j > 0 && (method || steps <= options.max_check_steps)) {
-    advice.check.done = true;
-    advice.check.method = std::string(to_string(method ? options.limit.method : LimitMethod::fdm));
-    advice.check.steps = steps;
-    advice.check.spectral_radius = radius(chosen.spindle_rad_s, j * step);
-    // With a Floquet method the advice must be stable by that same method.
-    while (method && j > 0 && advice.check.spectral_radius >= 1.0) {
-      --j;
-      ++advice.stepped_down;
-      advice.check.spectral_radius = j > 0 ? radius(chosen.spindle_rad_s, j * step) : 0.0;
-    }
-    if (advice.stepped_down > 0) {
-      OffsetScratch scratch;
-      scratch.workspaces.resize(dynamics.size());
-      fill_depth(scratch, chosen, j);
-    }
-    advice.check.next_done = j + 1 <= depth_steps;
-    if (advice.check.next_done)
-      advice.check.next_spectral_radius = radius(chosen.spindle_rad_s, (j + 1) * step);
-  }
+  recheck(models, stations, options, scan, chosen, advice);
   advice.best = chosen;
   advice.feasible = chosen.depth_m > 0.0;
   advice.margin_to_chatter = advice.feasible ? chosen.limit_depth_m / chosen.depth_m : 0.0;

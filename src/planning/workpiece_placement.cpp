@@ -77,13 +77,20 @@ Eigen::Matrix3d fixture_rotation(TiltAxis axis, double theta_rad) {
              : Eigen::AngleAxisd(theta_rad, Eigen::Vector3d::UnitX()).toRotationMatrix();
 }
 
+Eigen::Isometry3d workpiece_to_cell(const Workcell& cell, const WorkpiecePose& pose) {
+  Eigen::Isometry3d frame = Eigen::Isometry3d::Identity();
+  frame.linear() = fixture_rotation(cell.tilt_axis, pose.theta_rad);
+  frame.translation() =
+      cell.table_origin_m + Eigen::Vector3d(pose.x_m, pose.y_m, cell.workpiece_height_m);
+  return frame;
+}
+
 PlacedPoint place(const Workcell& cell, const WorkpiecePose& pose, const PathPoint& point) {
-  const Eigen::Matrix3d r_w = fixture_rotation(cell.tilt_axis, pose.theta_rad);
-  PlacedPoint placed;
   // 004 Eq 7: p_mi = p_c + p_w + R_w p_ni with p_w = [xp, yp, z_w].
-  placed.position_m = cell.table_origin_m +
-                      Eigen::Vector3d(pose.x_m, pose.y_m, cell.workpiece_height_m) +
-                      r_w * point.position_m;
+  const Eigen::Isometry3d frame = workpiece_to_cell(cell, pose);
+  const Eigen::Matrix3d r_w = frame.linear();
+  PlacedPoint placed;
+  placed.position_m = frame * point.position_m;
   // R_ni: tool x along the feed, z along the part normal, y = z × x.
   const Eigen::Vector3d z = r_w.col(2);
   Eigen::Vector3d x = r_w * point.feed_direction;

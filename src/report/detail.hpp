@@ -1,7 +1,8 @@
 #pragma once
 // Internals of report.html: CSV tables, axis titles from column names, and
 // Plotly figures as JSON (src/report/figures.cpp builds them per command,
-// src/report/page.cpp lays out the page).
+// some commands' in src/report/figures_<command>.cpp; src/report/page.cpp
+// lays out the page).
 
 #include <cstddef>
 #include <nlohmann/json.hpp>
@@ -115,6 +116,34 @@ Content build_content(const Outputs& outputs);
 /// `robomill toolpath`: the path in 3-D, engagement and loads over time, the
 /// final stock, the worst moves and the warnings (figures_toolpath.cpp).
 void toolpath_figures(const Outputs& outputs, Content& content);
+
+/// The cutting-process commands: `robomill forces` (forces and their
+/// spectrum), `simulate` (forces, displacements and spectra over time),
+/// `deflection` (the tool's deflection over the axial depth) and
+/// `identify-cutting` (the identified law against the measured forces)
+/// (figures_cutting.cpp).
+void forces_figures(const Outputs& outputs, Content& content);
+void simulate_figures(const Outputs& outputs, Content& content);
+void deflection_figures(const Outputs& outputs, Content& content);
+void identify_cutting_figures(const Outputs& outputs, Content& content);
+
+/// Colour `i` of the figures' palette of 8 (figures.cpp).
+const char* color(std::size_t i);
+/// A line trace thinned to the figures' point limit, in palette colour
+/// `color_index` (figures.cpp).
+nlohmann::json line_trace(const std::vector<double>& x, const std::vector<double>& y,
+                          const std::string& name, std::size_t color_index,
+                          const std::string& dash = "solid");
+/// A marker trace thinned to the figures' point limit (figures.cpp).
+nlohmann::json marker_trace(const std::vector<double>& x, const std::vector<double>& y,
+                            const std::string& name, const std::string& marker_color,
+                            const std::string& symbol = "circle", double size = 6);
+/// The values that are not positive as NaN (gaps on a log axis).
+std::vector<double> positive_or_gap(std::vector<double> v);
+/// summary[key] (or summary[key][sub]) as a number, NaN when absent or not
+/// a number.
+double summary_number(const nlohmann::json& summary, const std::string& key,
+                      const std::string& sub = std::string());
 
 /// Program line numbers as JSON integers (null when not finite): values()
 /// keeps 6 significant digits, which would misname lines beyond 999 999.

@@ -117,6 +117,56 @@ namespace {
 
 // ------------------------------------------------------------ the path in 3-D
 
+/// The feed moves of the path in 3-D, coloured by engagement (`colour`, up
+/// to `top`), with the program line, engagement, depths and force on hover
+/// (`custom`).
+json feed_trace(const std::vector<double>& fx, const std::vector<double>& fy,
+                const std::vector<double>& fz, const json& custom,
+                const std::vector<double>& colour, double top, const std::string& title) {
+  json colorbar = {{"title", {{"text", title}, {"side", "right"}}}, {"len", 0.8}};
+  return {{"type", "scatter3d"},
+          {"mode", "lines+markers"},
+          {"name", "feed moves"},
+          // (no legend entry: Plotly's legend cannot draw a line coloured by an
+          // array and warns; the colour bar names the colouring)
+          {"showlegend", false},
+          {"x", values(fx)},
+          {"y", values(fy)},
+          {"z", values(fz)},
+          {"customdata", custom},
+          {"line",
+           {{"color", values(colour)},
+            {"colorscale", "Viridis"},
+            {"cmin", 0},
+            {"cmax", rounded(top)},
+            {"width", 4}}},
+          {"marker",
+           {{"color", values(colour)},
+            {"colorscale", "Viridis"},
+            {"cmin", 0},
+            {"cmax", rounded(top)},
+            {"size", 2},
+            {"showscale", true},
+            {"colorbar", colorbar}}},
+          {"hovertemplate",
+           "line %{customdata[0]}<br>engagement %{customdata[1]:.3g}°<br>"
+           "ap %{customdata[2]:.3g} mm, ae %{customdata[3]:.3g} mm<br>"
+           "peak force %{customdata[4]:.4g} N<br>x %{x} y %{y} z %{z} mm<extra></extra>"}};
+}
+
+/// A button of the path's menu: recolours the feed moves (trace 0).
+json recolour_button(const std::string& label, const std::vector<double>& colour, double top,
+                     const std::string& title) {
+  return json{{"label", label},
+              {"method", "restyle"},
+              {"args", json::array({{{"marker.color", json::array({values(colour)})},
+                                     {"line.color", json::array({values(colour)})},
+                                     {"marker.cmax", rounded(top)},
+                                     {"line.cmax", rounded(top)},
+                                     {"marker.colorbar.title.text", title}},
+                                    json::array({0})})}};
+}
+
 /// The path of the preview's samples in 3-D: the feed moves as one trace
 /// coloured by engagement (a menu recolours it by peak force), the rapids as
 /// thin grey lines, the largest peak force as a marker.
@@ -172,35 +222,7 @@ void path_figure(const Table& s, const json& summary, Content& c) {
   const std::string engagement_title = axis_title("engagement_deg");
   const std::string force_title = "peak force (N)";
   const double engagement_top = largest(f_engagement, 1.0), force_top = largest(f_force, 1.0);
-  json colorbar = {{"title", {{"text", engagement_title}, {"side", "right"}}}, {"len", 0.8}};
-  json feed = {{"type", "scatter3d"},
-               {"mode", "lines+markers"},
-               {"name", "feed moves"},
-               // (no legend entry: Plotly's legend cannot draw a line coloured by an
-               // array and warns; the colour bar names the colouring)
-               {"showlegend", false},
-               {"x", values(fx)},
-               {"y", values(fy)},
-               {"z", values(fz)},
-               {"customdata", custom},
-               {"line",
-                {{"color", values(f_engagement)},
-                 {"colorscale", "Viridis"},
-                 {"cmin", 0},
-                 {"cmax", rounded(engagement_top)},
-                 {"width", 4}}},
-               {"marker",
-                {{"color", values(f_engagement)},
-                 {"colorscale", "Viridis"},
-                 {"cmin", 0},
-                 {"cmax", rounded(engagement_top)},
-                 {"size", 2},
-                 {"showscale", true},
-                 {"colorbar", colorbar}}},
-               {"hovertemplate",
-                "line %{customdata[0]}<br>engagement %{customdata[1]:.3g}°<br>"
-                "ap %{customdata[2]:.3g} mm, ae %{customdata[3]:.3g} mm<br>"
-                "peak force %{customdata[4]:.4g} N<br>x %{x} y %{y} z %{z} mm<extra></extra>"}};
+  const json feed = feed_trace(fx, fy, fz, custom, f_engagement, engagement_top, engagement_title);
   Figure f;
   f.title = "Tool path";
   f.data.push_back(feed);
@@ -231,22 +253,12 @@ void path_figure(const Table& s, const json& summary, Content& c) {
     f.data.push_back(marker);
   }
   // The menu recolours the feed moves (trace 0): engagement or peak force.
-  auto recolour = [&](const std::string& label, const std::vector<double>& colour, double top,
-                      const std::string& title) {
-    return json{{"label", label},
-                {"method", "restyle"},
-                {"args", json::array({{{"marker.color", json::array({values(colour)})},
-                                       {"line.color", json::array({values(colour)})},
-                                       {"marker.cmax", rounded(top)},
-                                       {"line.cmax", rounded(top)},
-                                       {"marker.colorbar.title.text", title}},
-                                      json::array({0})})}};
-  };
   f.layout["updatemenus"] = json::array(
       {{{"type", "dropdown"},
-        {"buttons", json::array({recolour("colour: engagement", f_engagement, engagement_top,
-                                          engagement_title),
-                                 recolour("colour: peak force", f_force, force_top, force_title)})},
+        {"buttons",
+         json::array(
+             {recolour_button("colour: engagement", f_engagement, engagement_top, engagement_title),
+              recolour_button("colour: peak force", f_force, force_top, force_title)})},
         {"x", 0},
         {"xanchor", "left"},
         {"y", 1.06},

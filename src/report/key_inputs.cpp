@@ -72,52 +72,48 @@ void add_cutting(Rows& rows, const cutting::CuttingLaw& law) {
       law);
 }
 
-const char* method_name(io::StabilitySettings::Method method) {
+const char* method_name(job::StabilitySettings::Method method) {
   switch (method) {
-    case io::StabilitySettings::Method::zoa:
+    case job::StabilitySettings::Method::zoa:
       return "zoa";
-    case io::StabilitySettings::Method::sdm:
+    case job::StabilitySettings::Method::sdm:
       return "sdm";
-    case io::StabilitySettings::Method::fdm:
+    case job::StabilitySettings::Method::fdm:
       return "fdm";
-    case io::StabilitySettings::Method::fdm2:
+    case job::StabilitySettings::Method::fdm2:
       return "fdm2";
   }
   return "?";
 }
 
-}  // namespace
+// The rows of one section of the job each (key_inputs_json gives their order).
+void add_tool(Rows& rows, const tool::ToolSpec& t) {
+  rows.add("tool", "type", tool::type_name(t.type));
+  if (t.type == tool::ToolType::bull)
+    rows.add("tool", "corner_radius", with_unit(t.corner_radius_m * 1e3, "mm"));
+  rows.add("tool", "diameter", with_unit(t.diameter_m * 1e3, "mm"));
+  rows.add("tool", "teeth", std::to_string(t.teeth));
+  rows.add("tool", "helix", with_unit(t.helix_rad * kDeg, "°"));
+  if (t.overhang_m > 0.0)
+    rows.add("tool", "overhang", with_unit(t.overhang_m * 1e3, "mm"));
+  if (t.runout.offset_m != 0.0)
+    rows.add(
+        "tool", "runout",
+        fmt::format("{} µm at {}°", num(t.runout.offset_m * 1e6), num(t.runout.angle_rad * kDeg)));
+}
 
-std::string key_inputs_json(const io::Job& job) {
-  Rows rows;
-  if (job.tool) {
-    const tool::ToolSpec& t = *job.tool;
-    rows.add("tool", "type", tool::type_name(t.type));
-    if (t.type == tool::ToolType::bull)
-      rows.add("tool", "corner_radius", with_unit(t.corner_radius_m * 1e3, "mm"));
-    rows.add("tool", "diameter", with_unit(t.diameter_m * 1e3, "mm"));
-    rows.add("tool", "teeth", std::to_string(t.teeth));
-    rows.add("tool", "helix", with_unit(t.helix_rad * kDeg, "°"));
-    if (t.overhang_m > 0.0)
-      rows.add("tool", "overhang", with_unit(t.overhang_m * 1e3, "mm"));
-    if (t.runout.offset_m != 0.0)
-      rows.add("tool", "runout",
-               fmt::format("{} µm at {}°", num(t.runout.offset_m * 1e6),
-                           num(t.runout.angle_rad * kDeg)));
-  }
-  if (job.cutting)
-    add_cutting(rows, *job.cutting);
-  if (job.process) {
-    const cutting::MillingProcess& p = *job.process;
-    rows.add("process", "spindle", with_unit(p.spindle_rad_s * kRpm, "rpm"));
-    rows.add("process", "feed per tooth", with_unit(p.feed_per_tooth_m * 1e3, "mm"));
-    rows.add("process", "ap (axial depth)", with_unit(p.axial_depth_m * 1e3, "mm"));
-    rows.add("process", "ae (radial depth)", with_unit(p.radial_depth_m * 1e3, "mm"));
-    rows.add("process", "direction", std::string(cutting::to_string(p.direction)));
-  }
-  rows.add("dynamics", "source", io::dynamics_source_name(job.dynamics_source));
+void add_process(Rows& rows, const cutting::MillingProcess& p) {
+  rows.add("process", "spindle", with_unit(p.spindle_rad_s * kRpm, "rpm"));
+  rows.add("process", "feed per tooth", with_unit(p.feed_per_tooth_m * 1e3, "mm"));
+  rows.add("process", "ap (axial depth)", with_unit(p.axial_depth_m * 1e3, "mm"));
+  rows.add("process", "ae (radial depth)", with_unit(p.radial_depth_m * 1e3, "mm"));
+  rows.add("process", "direction", std::string(cutting::to_string(p.direction)));
+}
+
+void add_dynamics(Rows& rows, const job::Job& job) {
+  rows.add("dynamics", "source", job::dynamics_source_name(job.dynamics_source));
   for (std::size_t i = 0; i < job.modes.size() && i < 12; ++i) {
-    const io::ModeSpec& m = job.modes[i];
+    const job::ModeSpec& m = job.modes[i];
     const std::string direction =
         m.direction == 'v' ? fmt::format("[{}, {}, {}]", num(m.direction_vector.x()),
                                          num(m.direction_vector.y()), num(m.direction_vector.z()))
@@ -128,47 +124,103 @@ std::string key_inputs_json(const io::Job& job) {
   }
   if (job.modes.size() > 12)
     rows.add("dynamics", "more modes", std::to_string(job.modes.size() - 12));
-  for (const io::FrfFileSpec& f : job.frf_files)
+  for (const job::FrfFileSpec& f : job.frf_files)
     rows.add("dynamics", "FRF file", f.file.filename().string());
   if (job.posture_library)
     rows.add(
         "dynamics", "posture library",
         fmt::format("{} measured postures (IDW at {})", job.posture_library->postures_rad.size(),
                     job.posture_library->query_source));
-  if (job.robot) {
-    const io::RobotSettings& r = *job.robot;
-    if (!r.description.name.empty())
-      rows.add("robot", "robot", r.description.name);
-    rows.add("robot", "joints", std::to_string(r.description.joints.size()));
-    if (!r.posture_rad.empty())
-      rows.add("robot", "posture", list(r.posture_rad, kDeg, "°"));
-    std::vector<double> stiffness;
-    for (const robot::JointProperties& joint : r.description.joints)
-      stiffness.push_back(joint.stiffness_nm_per_rad);
-    if (!stiffness.empty())
-      rows.add("robot", "joint stiffness Kq", list(stiffness, 1.0, "N·m/rad"));
-    if (r.map)
-      rows.add(
-          "robot", "map grid",
-          fmt::format("{} × {} × {} points", r.map->counts[0], r.map->counts[1], r.map->counts[2]));
+}
+
+void add_robot(Rows& rows, const job::RobotSettings& r) {
+  if (!r.description.name.empty())
+    rows.add("robot", "robot", r.description.name);
+  rows.add("robot", "joints", std::to_string(r.description.joints.size()));
+  if (!r.posture_rad.empty())
+    rows.add("robot", "posture", list(r.posture_rad, kDeg, "°"));
+  std::vector<double> stiffness;
+  for (const robot::JointProperties& joint : r.description.joints)
+    stiffness.push_back(joint.stiffness_nm_per_rad);
+  if (!stiffness.empty())
+    rows.add("robot", "joint stiffness Kq", list(stiffness, 1.0, "N·m/rad"));
+  if (r.map)
+    rows.add(
+        "robot", "map grid",
+        fmt::format("{} × {} × {} points", r.map->counts[0], r.map->counts[1], r.map->counts[2]));
+}
+
+void add_stability(Rows& rows, const job::StabilitySettings& s) {
+  rows.add("stability", "method", method_name(s.method));
+  rows.add("stability", "speeds",
+           fmt::format("{} – {} rpm, {} speeds", num(s.speed_from_rad_s * kRpm),
+                       num(s.speed_to_rad_s * kRpm), s.speed_count));
+  rows.add("stability", "depth max", with_unit(s.depth_max_m * 1e3, "mm"));
+  if (s.method != job::StabilitySettings::Method::zoa)
+    rows.add("stability", "discretization", std::to_string(s.discretization) + " per tooth");
+  if (s.process_damping != job::StabilitySettings::Damping::none)
+    rows.add("stability", "process damping",
+             fmt::format("{}, Ksp {} N/mm³, wear land {} µm",
+                         s.process_damping == job::StabilitySettings::Damping::energy_balance
+                             ? "energy balance"
+                             : "linear equivalent",
+                         num(s.indentation_n_per_m3 * 1e-9), num(s.wear_land_m * 1e6)));
+}
+
+void add_toolpath(Rows& rows, const job::ToolpathSettings& t) {
+  static constexpr const char* kFormats[] = {"G-code", "APT CL", "KUKA KRL"};
+  rows.add("toolpath", "program",
+           fmt::format("{} ({})", t.file_text, kFormats[static_cast<int>(t.format)]));
+  const Eigen::Vector3d origin = t.program_to_workpiece.translation();
+  rows.add("toolpath", "origin",
+           fmt::format("[{}, {}, {}] mm", num(origin.x() * 1e3), num(origin.y() * 1e3),
+                       num(origin.z() * 1e3)));
+  for (const auto& [number, spec] : t.tools)
+    rows.add("toolpath", fmt::format("T{}", number),
+             fmt::format("{} end mill, D {} mm, {} teeth, helix {}°", tool::type_name(spec.type),
+                         num(spec.diameter_m * 1e3), spec.teeth, num(spec.helix_rad * kDeg)));
+}
+
+void add_robot_path(Rows& rows, const job::RobotPathJobSettings& r) {
+  rows.add("robot path", "redundancy ψ", with_unit(r.redundancy_rad * kDeg, "°"));
+  rows.add("robot path", "deflection", r.contact_deflection ? "000's contact boundary" : "static");
+  if (r.feed_limits) {
+    const job::RobotPathJobSettings::FeedLimits& l = *r.feed_limits;
+    std::vector<std::string> caps;
+    if (l.force_max_n > 0.0)
+      caps.push_back(fmt::format("force {} N", num(l.force_max_n)));
+    if (l.torque_max_nm > 0.0)
+      caps.push_back(fmt::format("torque {} N·m", num(l.torque_max_nm)));
+    if (l.deflection_max_m > 0.0)
+      caps.push_back(fmt::format("deflection {} µm", num(l.deflection_max_m * 1e6)));
+    if (l.joint_speed_max_rad_s > 0.0)
+      caps.push_back(fmt::format("joint speed {} °/s", num(l.joint_speed_max_rad_s * kDeg)));
+    std::string text;
+    for (const std::string& cap : caps)
+      text += (text.empty() ? "" : ", ") + cap;
+    if (l.feed_min_m_s > 0.0 || l.feed_max_m_s > 0.0)
+      text += fmt::format("; feed {} – {} mm/min",
+                          l.feed_min_m_s > 0.0 ? num(l.feed_min_m_s * 6e4) : "…",
+                          l.feed_max_m_s > 0.0 ? num(l.feed_max_m_s * 6e4) : "programmed");
+    rows.add("robot path", "feed limits", text);
   }
-  if (job.stability) {
-    const io::StabilitySettings& s = *job.stability;
-    rows.add("stability", "method", method_name(s.method));
-    rows.add("stability", "speeds",
-             fmt::format("{} – {} rpm, {} speeds", num(s.speed_from_rad_s * kRpm),
-                         num(s.speed_to_rad_s * kRpm), s.speed_count));
-    rows.add("stability", "depth max", with_unit(s.depth_max_m * 1e3, "mm"));
-    if (s.method != io::StabilitySettings::Method::zoa)
-      rows.add("stability", "discretization", std::to_string(s.discretization) + " per tooth");
-    if (s.process_damping != io::StabilitySettings::Damping::none)
-      rows.add("stability", "process damping",
-               fmt::format("{}, Ksp {} N/mm³, wear land {} µm",
-                           s.process_damping == io::StabilitySettings::Damping::energy_balance
-                               ? "energy balance"
-                               : "linear equivalent",
-                           num(s.indentation_n_per_m3 * 1e-9), num(s.wear_land_m * 1e6)));
-  }
+}
+
+}  // namespace
+
+std::string key_inputs_json(const job::Job& job) {
+  Rows rows;
+  if (job.tool)
+    add_tool(rows, *job.tool);
+  if (job.cutting)
+    add_cutting(rows, *job.cutting);
+  if (job.process)
+    add_process(rows, *job.process);
+  add_dynamics(rows, job);
+  if (job.robot)
+    add_robot(rows, *job.robot);
+  if (job.stability)
+    add_stability(rows, *job.stability);
   if (job.simulation) {
     rows.add("simulation", "model", job.simulation->model_name);
     rows.add("simulation", "duration", with_unit(job.simulation->duration_s, "s"));
@@ -190,48 +242,12 @@ std::string key_inputs_json(const io::Job& job) {
              fmt::format("{} × {} × {} points, {} redundancy angles", a.counts[0], a.counts[1],
                          a.counts[2], a.redundancy_rad.size()));
   }
-  if (job.toolpath) {
-    const io::ToolpathSettings& t = *job.toolpath;
-    static constexpr const char* kFormats[] = {"G-code", "APT CL", "KUKA KRL"};
-    rows.add("toolpath", "program",
-             fmt::format("{} ({})", t.file_text, kFormats[static_cast<int>(t.format)]));
-    const Eigen::Vector3d origin = t.program_to_workpiece.translation();
-    rows.add("toolpath", "origin",
-             fmt::format("[{}, {}, {}] mm", num(origin.x() * 1e3), num(origin.y() * 1e3),
-                         num(origin.z() * 1e3)));
-    for (const auto& [number, spec] : t.tools)
-      rows.add("toolpath", fmt::format("T{}", number),
-               fmt::format("{} end mill, D {} mm, {} teeth, helix {}°", tool::type_name(spec.type),
-                           num(spec.diameter_m * 1e3), spec.teeth, num(spec.helix_rad * kDeg)));
-  }
-  if (job.robot_path) {
-    const io::RobotPathJobSettings& r = *job.robot_path;
-    rows.add("robot path", "redundancy ψ", with_unit(r.redundancy_rad * kDeg, "°"));
-    rows.add("robot path", "deflection",
-             r.contact_deflection ? "000's contact boundary" : "static");
-    if (r.feed_limits) {
-      const io::RobotPathJobSettings::FeedLimits& l = *r.feed_limits;
-      std::vector<std::string> caps;
-      if (l.force_max_n > 0.0)
-        caps.push_back(fmt::format("force {} N", num(l.force_max_n)));
-      if (l.torque_max_nm > 0.0)
-        caps.push_back(fmt::format("torque {} N·m", num(l.torque_max_nm)));
-      if (l.deflection_max_m > 0.0)
-        caps.push_back(fmt::format("deflection {} µm", num(l.deflection_max_m * 1e6)));
-      if (l.joint_speed_max_rad_s > 0.0)
-        caps.push_back(fmt::format("joint speed {} °/s", num(l.joint_speed_max_rad_s * kDeg)));
-      std::string text;
-      for (const std::string& cap : caps)
-        text += (text.empty() ? "" : ", ") + cap;
-      if (l.feed_min_m_s > 0.0 || l.feed_max_m_s > 0.0)
-        text += fmt::format("; feed {} – {} mm/min",
-                            l.feed_min_m_s > 0.0 ? num(l.feed_min_m_s * 6e4) : "…",
-                            l.feed_max_m_s > 0.0 ? num(l.feed_max_m_s * 6e4) : "programmed");
-      rows.add("robot path", "feed limits", text);
-    }
-  }
+  if (job.toolpath)
+    add_toolpath(rows, *job.toolpath);
+  if (job.robot_path)
+    add_robot_path(rows, *job.robot_path);
   if (job.stock) {
-    const io::StockSettings& s = *job.stock;
+    const job::StockSettings& s = *job.stock;
     rows.add("stock", "box",
              fmt::format("[{}, {}, {}] – [{}, {}, {}] mm", num(s.min_m.x() * 1e3),
                          num(s.min_m.y() * 1e3), num(s.min_m.z() * 1e3), num(s.max_m.x() * 1e3),
@@ -249,7 +265,7 @@ std::string key_inputs_json(const io::Job& job) {
   }
   if (!job.experiments.empty()) {
     int chatter = 0;
-    for (const io::Experiment& e : job.experiments)
+    for (const job::Experiment& e : job.experiments)
       chatter += e.chatter ? 1 : 0;
     rows.add("experiments", "tests",
              fmt::format("{} ({} with chatter)", job.experiments.size(), chatter));

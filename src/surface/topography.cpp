@@ -469,54 +469,10 @@ void cut_strip(const Plan& plan, std::vector<double>& z, int column_from, int co
   }
 }
 
-}  // namespace
-
-ZMapResult cut_zmap(const tool::Tool& tool, double axial_depth_m,
-                    const ToolOrientation& orientation, const RasterPath& path,
-                    const ZMapGrid& grid, const Vibration& vibration, const ZMapOptions& options) {
-  require(axial_depth_m > 0.0 && std::isfinite(axial_depth_m), "ap must be positive");
-  require(path.spindle_rad_s > 0.0 && path.feed_per_tooth_m > 0.0,
-          "spindle speed and feed must be positive");
-  require(path.stepover_m > 0.0 && path.passes >= 1, "stepover and passes must be positive");
-  require(path.x_end_m > path.x_start_m, "the path must run from x_start to a larger x_end");
-  require(grid.cells_x >= 1 && grid.cells_y >= 1 && grid.length_x_m > 0.0 && grid.length_y_m > 0.0,
-          "the grid needs positive lengths and cell counts");
-  require(grid.node_count() <= 400'000'000u, "the grid is larger than 4e8 nodes");
-
-  Plan plan;
-  plan.tool = &tool;
-  plan.path = &path;
-  plan.grid = &grid;
-  plan.vibration = &vibration;
-  plan.ball = tool.type() == tool::ToolType::ball;
-  plan.radius = tool.radius_m();
-  plan.teeth = tool.teeth();
-  plan.v_f = feed_speed(path, tool.teeth());
-  plan.pass_time = (path.x_end_m - path.x_start_m) / plan.v_f;
-  plan.to_engagement = spindle_to_engagement(orientation);
-  plan.reference = reference_offset(tool, orientation);
-  const double vibration_amplitude = vibration.amplitude_m();
-  plan.budget = options.height_budget_m > 0.0
-                    ? options.height_budget_m
-                    : automatic_budget(tool, orientation, path, vibration);
-  const Band band = evaluated_band(tool, axial_depth_m, orientation, plan.budget);
-  const ResolutionRules rules =
-      resolution_rules(tool, axial_depth_m, orientation, path, grid, plan.budget);
-  const double cell = std::min(grid.dx(), grid.dy());
-
-  const int steps = options.steps_per_revolution > 0 ? options.steps_per_revolution
-                                                     : rules.min_steps_per_revolution;
-  require(steps >= rules.min_steps_per_revolution,
-          "steps_per_revolution " + std::to_string(steps) + " breaks 001 Eq 30; needs " +
-              std::to_string(rules.min_steps_per_revolution));
-  const double ds = options.edge_spacing_m > 0.0 ? options.edge_spacing_m : 0.5 * cell;
-  require(ds <= cell * (1.0 + 1e-9), "the edge spacing breaks 001 Eq 31 (ds <= min(dx, dy))");
-  plan.dt = kTwoPi / (path.spindle_rad_s * steps);
-  plan.cell = cell;
-  plan.steps_per_pass = static_cast<long long>(std::floor(plan.pass_time / plan.dt)) + 1;
-
-  for (int j = 0; j < tool.teeth(); ++j)
-    plan.pitch.push_back(tool.pitch_angle_rad(j));
+/// The edge points the Z-map evaluates into the plan: a ball end's band of
+/// κ, a flat end's bottom radii and side heights, about ds apart. Returns
+/// their spacing.
+double sample_edge(Plan& plan, const tool::Tool& tool, const Band& band, double ds) {
   double spacing = 0.0;
   if (plan.ball) {
     const int n = std::max(
@@ -548,19 +504,14 @@ ZMapResult cut_zmap(const tool::Tool& tool, double axial_depth_m,
     }
     spacing = std::max(plan.radius / (bottom - 1), band.to / side);
   }
-  const double theta = axis_angle(orientation);
-  // Horizontal reach of the evaluated points around the contact point.
-  const double lateral =
-      plan.ball
-          ? plan.radius * std::sin(std::min(0.5 * std::numbers::pi,
-                                            std::max(band.to - theta, theta - band.from) + 1e-3))
-          : 2.0 * plan.radius + band.to;
-  plan.reach = lateral + tool.runout().offset_m + vibration_amplitude * 2.0 + 2.0 * cell;
+  return spacing;
+}
 
-  ZMapResult result;
-  result.map.grid = grid;
-  result.map.z_m.assign(grid.node_count(), axial_depth_m);
-
+/// Cuts every pass into result.map.z_m (the stock top at first); the
+/// counters of each worker.
+std::vector<Counters> cut_passes(const Plan& plan, const ZMapGrid& grid, const RasterPath& path,
+                                 double axial_depth_m, const ZMapOptions& options,
+                                 ZMapResult& result) {
   // Parallel without races, two ways. When a private grid per worker is
   // affordable (≤ 256 MB in all), the workers share out the passes, each
   // cutting its passes into its own grid, and the grids are merged by min
@@ -611,6 +562,73 @@ ZMapResult cut_zmap(const tool::Tool& tool, double axial_depth_m,
       cut(result.map.z_m, from, to, 0, path.passes, counters[s]);
     });
   }
+  return counters;
+}
+
+}  // namespace
+
+ZMapResult cut_zmap(const tool::Tool& tool, double axial_depth_m,
+                    const ToolOrientation& orientation, const RasterPath& path,
+                    const ZMapGrid& grid, const Vibration& vibration, const ZMapOptions& options) {
+  require(axial_depth_m > 0.0 && std::isfinite(axial_depth_m), "ap must be positive");
+  require(path.spindle_rad_s > 0.0 && path.feed_per_tooth_m > 0.0,
+          "spindle speed and feed must be positive");
+  require(path.stepover_m > 0.0 && path.passes >= 1, "stepover and passes must be positive");
+  require(path.x_end_m > path.x_start_m, "the path must run from x_start to a larger x_end");
+  require(grid.cells_x >= 1 && grid.cells_y >= 1 && grid.length_x_m > 0.0 && grid.length_y_m > 0.0,
+          "the grid needs positive lengths and cell counts");
+  require(grid.node_count() <= 400'000'000u, "the grid is larger than 4e8 nodes");
+
+  Plan plan;
+  plan.tool = &tool;
+  plan.path = &path;
+  plan.grid = &grid;
+  plan.vibration = &vibration;
+  plan.ball = tool.type() == tool::ToolType::ball;
+  plan.radius = tool.radius_m();
+  plan.teeth = tool.teeth();
+  plan.v_f = feed_speed(path, tool.teeth());
+  plan.pass_time = (path.x_end_m - path.x_start_m) / plan.v_f;
+  plan.to_engagement = spindle_to_engagement(orientation);
+  plan.reference = reference_offset(tool, orientation);
+  const double vibration_amplitude = vibration.amplitude_m();
+  plan.budget = options.height_budget_m > 0.0
+                    ? options.height_budget_m
+                    : automatic_budget(tool, orientation, path, vibration);
+  const Band band = evaluated_band(tool, axial_depth_m, orientation, plan.budget);
+  const ResolutionRules rules =
+      resolution_rules(tool, axial_depth_m, orientation, path, grid, plan.budget);
+  const double cell = std::min(grid.dx(), grid.dy());
+
+  const int steps = options.steps_per_revolution > 0 ? options.steps_per_revolution
+                                                     : rules.min_steps_per_revolution;
+  require(steps >= rules.min_steps_per_revolution,
+          "steps_per_revolution " + std::to_string(steps) + " breaks 001 Eq 30; needs " +
+              std::to_string(rules.min_steps_per_revolution));
+  const double ds = options.edge_spacing_m > 0.0 ? options.edge_spacing_m : 0.5 * cell;
+  require(ds <= cell * (1.0 + 1e-9), "the edge spacing breaks 001 Eq 31 (ds <= min(dx, dy))");
+  plan.dt = kTwoPi / (path.spindle_rad_s * steps);
+  plan.cell = cell;
+  plan.steps_per_pass = static_cast<long long>(std::floor(plan.pass_time / plan.dt)) + 1;
+
+  for (int j = 0; j < tool.teeth(); ++j)
+    plan.pitch.push_back(tool.pitch_angle_rad(j));
+  const double spacing = sample_edge(plan, tool, band, ds);
+  const double theta = axis_angle(orientation);
+  // Horizontal reach of the evaluated points around the contact point.
+  const double lateral =
+      plan.ball
+          ? plan.radius * std::sin(std::min(0.5 * std::numbers::pi,
+                                            std::max(band.to - theta, theta - band.from) + 1e-3))
+          : 2.0 * plan.radius + band.to;
+  plan.reach = lateral + tool.runout().offset_m + vibration_amplitude * 2.0 + 2.0 * cell;
+
+  ZMapResult result;
+  result.map.grid = grid;
+  result.map.z_m.assign(grid.node_count(), axial_depth_m);
+
+  const std::vector<Counters> counters =
+      cut_passes(plan, grid, path, axial_depth_m, options, result);
 
   ZMapStats& stats = result.stats;
   stats.steps_per_revolution = steps;

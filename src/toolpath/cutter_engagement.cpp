@@ -214,23 +214,10 @@ struct Query {
   }
 };
 
-}  // namespace
-
-CutterEngagement engagement_at(const DexelStock& stock, const CutterShape& cutter,
-                               const Eigen::Vector3d& tip_m, const Eigen::Vector3d& axis,
-                               const Eigen::Vector3d& feed_direction, const EngagementGrid& grid) {
-  CutterEngagement result;
-  const double radius = cutter.radius_m, length = cutter.length_m;
-  const double dz = grid.slice_height_m;
-  if (!(radius > 0.0) || !(length > 0.0) || !(dz > 0.0) || grid.angle_steps < 1 ||
-      !(axis.norm() > 0.0) || !tip_m.allFinite()) {
-    return result;
-  }
-  Query query{stock, cutter, tip_m, axis.normalized(), {}, {}};
+// Local frame: x along the feed's component normal to the axis; for a
+// plunge (no such component) any normal direction, and the whole turn.
+void set_frame(const Eigen::Vector3d& feed_direction, Query& query) {
   const Eigen::Vector3d& a = query.a;
-
-  // Local frame: x along the feed's component normal to the axis; for a
-  // plunge (no such component) any normal direction, and the whole turn.
   const Eigen::Vector3d feed_normal = feed_direction - feed_direction.dot(a) * a;
   query.plunge = !(feed_normal.norm() > 1e-6 * feed_direction.norm());
   if (query.plunge) {
@@ -243,43 +230,29 @@ CutterEngagement engagement_at(const DexelStock& stock, const CutterShape& cutte
     query.x_hat = feed_normal.normalized();
   }
   query.y_hat = a.cross(query.x_hat);
+}
 
-  // Heights along the axis where the slice plane meets the stock box at all.
-  const StockBox& box = stock.box();
-  double h_lo = 0.0, h_hi = 0.0;
-  for (int i = 0; i < 3; ++i) {
-    const double p = (box.min_m[i] - tip_m[i]) * a[i], q = (box.max_m[i] - tip_m[i]) * a[i];
-    h_lo += std::min(p, q);
-    h_hi += std::max(p, q);
-  }
+// Slice k of the grid, before any test.
+EngagementSlice grid_slice(const CutterShape& cutter, double dz, double length, int k) {
+  EngagementSlice slice;
+  slice.thickness_m = std::min(dz, length - k * dz);
+  slice.height_m = k * dz + 0.5 * slice.thickness_m;
+  slice.radius_m = cutter.radius_at(slice.height_m);
+  return slice;
+}
 
-  // Test points half a curvature error inside the surface: the walls the
-  // cutter itself left (a plunge's hole, a slot's sides) coincide with its
-  // surface, and the stock's interpolated boundary is off by up to about
-  // 0.35 res² / R there (DexelStock::material_depth_m), so a point exactly on
-  // the surface would read air or material by rounding.
-  query.inset = surface_inset_m(grid, cutter, stock.resolution_m());
+// 1. Each slice of the grid tested at its centre height, up to the top of
+// the stock box (h_lo, h_hi: the heights along the axis where the slice
+// plane meets the box at all); `tested_at` the height each slice's arcs were
+// found at.
+void test_grid(const Query& query, double dz, double h_lo, double h_hi, Scratch& scratch,
+               std::vector<EngagementSlice>& slices, std::vector<double>& tested_at) {
+  const CutterShape& cutter = query.cutter;
+  const double length = cutter.length_m;
   const double inset = query.inset;
-
-  const int half_steps = grid.angle_steps;
-  query.step = kPi / half_steps;
-  query.points = query.plunge ? 2 * half_steps : half_steps;
-  thread_local Scratch scratch;
-  scratch.prepare(query.points, query.step);
-
-  // 1. Each slice of the grid tested at its centre height.
   const int slice_count = std::max(1, static_cast<int>(std::ceil(length / dz - 1e-9)));
-  auto grid_slice = [&](int k) {
-    EngagementSlice slice;
-    slice.thickness_m = std::min(dz, length - k * dz);
-    slice.height_m = k * dz + 0.5 * slice.thickness_m;
-    slice.radius_m = cutter.radius_at(slice.height_m);
-    return slice;
-  };
-  std::vector<EngagementSlice> slices;
-  std::vector<double> tested_at;  // the height each slice's arcs were found at
   for (int k = 0; k < slice_count; ++k) {
-    EngagementSlice slice = grid_slice(k);
+    EngagementSlice slice = grid_slice(cutter, dz, length, k);
     const double h = slice.height_m;
     if (h > h_hi + 0.5 * dz)
       break;  // this slice and all above are outside the stock box
@@ -300,15 +273,22 @@ CutterEngagement engagement_at(const DexelStock& stock, const CutterShape& cutte
       tested_at[0] = low;
     }
   }
+}
 
-  // 2. Each run of engaged slices ends where the material ends: its top
-  // slice is cut off, or the empty slice above it taken in with the same
-  // arcs, at the material's end along the axis; likewise its bottom when it
-  // does not start at the tip (the tip below the stock). ap, the chip area,
-  // the section and the forces then follow the program's depth, not the
-  // slice grid's.
+// 2. Each run of engaged slices ends where the material ends: its top
+// slice is cut off, or the empty slice above it taken in with the same
+// arcs, at the material's end along the axis; likewise its bottom when it
+// does not start at the tip (the tip below the stock). ap, the chip area,
+// the section and the forces then follow the program's depth, not the
+// slice grid's. `bottom` and `top` (each slice's) are filled here.
+void end_runs_at_material(const Query& query, double dz, std::vector<EngagementSlice>& slices,
+                          std::vector<double>& tested_at, std::vector<double>& bottom,
+                          std::vector<double>& top) {
+  const DexelStock& stock = query.stock;
+  const double length = query.cutter.length_m;
   const int count = static_cast<int>(slices.size());
-  std::vector<double> bottom(count), top(count);
+  bottom.resize(count);
+  top.resize(count);
   for (int k = 0; k < count; ++k) {
     bottom[k] = slices[k].height_m - 0.5 * slices[k].thickness_m;
     top[k] = slices[k].height_m + 0.5 * slices[k].thickness_m;
@@ -364,32 +344,45 @@ CutterEngagement engagement_at(const DexelStock& stock, const CutterShape& cutte
       }
     }
   }
-  // 3. The arcs of a run's end slices again, where they were found too close
-  // to the material's face. The horizontal rays that answer for the side
-  // test points (the grid along their normal) lie on levels one cell apart,
-  // and a test point between the last level inside the material and the
-  // first outside it reads an interpolation with air: a slot's sides go
-  // missing in its top slice. With the axis vertical, the end slice is
-  // tested again on a ray level inside it (where the interpolation across
-  // levels has no weight); otherwise it takes the arcs of its neighbour in
-  // the run. A run thinner than the level spacing with no level inside it
-  // keeps what its own test found (docs/toolpath.md, "Limits").
-  const bool vertical_axis = std::abs(a.z()) > 1.0 - 1e-12;
-  auto level_inside = [&](double from_h, double to_h) -> std::optional<double> {
-    if (!vertical_axis)
-      return std::nullopt;
-    // Heights above the tip of the z levels i: box.min z + (i + ½) cell.
-    const double cell = stock.cell_size_m(2);
-    const double z_from = tip_m.z() + a.z() * from_h, z_to = tip_m.z() + a.z() * to_h;
-    const double z_mid = 0.5 * (z_from + z_to);
-    const double i = std::round((z_mid - box.min_m.z()) / cell - 0.5);
-    const double z_level = box.min_m.z() + (i + 0.5) * cell;
-    const double h = (z_level - tip_m.z()) * a.z();
-    const double margin = 1e-9;
-    if (h > std::min(from_h, to_h) + margin && h < std::max(from_h, to_h) - margin)
-      return h;
+}
+
+// With the axis vertical, the height above the tip of a z level of the
+// stock's rays strictly inside [from_h, to_h] (the z levels i: box.min z +
+// (i + ½) cell); empty otherwise.
+std::optional<double> level_inside(const Query& query, bool vertical_axis, double from_h,
+                                   double to_h) {
+  if (!vertical_axis)
     return std::nullopt;
-  };
+  const StockBox& box = query.stock.box();
+  const Eigen::Vector3d& tip_m = query.tip;
+  const Eigen::Vector3d& a = query.a;
+  // Heights above the tip of the z levels i: box.min z + (i + ½) cell.
+  const double cell = query.stock.cell_size_m(2);
+  const double z_from = tip_m.z() + a.z() * from_h, z_to = tip_m.z() + a.z() * to_h;
+  const double z_mid = 0.5 * (z_from + z_to);
+  const double i = std::round((z_mid - box.min_m.z()) / cell - 0.5);
+  const double z_level = box.min_m.z() + (i + 0.5) * cell;
+  const double h = (z_level - tip_m.z()) * a.z();
+  const double margin = 1e-9;
+  if (h > std::min(from_h, to_h) + margin && h < std::max(from_h, to_h) - margin)
+    return h;
+  return std::nullopt;
+}
+
+// 3. The arcs of a run's end slices again, where they were found too close
+// to the material's face. The horizontal rays that answer for the side
+// test points (the grid along their normal) lie on levels one cell apart,
+// and a test point between the last level inside the material and the
+// first outside it reads an interpolation with air: a slot's sides go
+// missing in its top slice. With the axis vertical, the end slice is
+// tested again on a ray level inside it (where the interpolation across
+// levels has no weight); otherwise it takes the arcs of its neighbour in
+// the run. A run thinner than the level spacing with no level inside it
+// keeps what its own test found (docs/toolpath.md, "Limits").
+void retest_run_ends(const Query& query, Scratch& scratch, std::vector<EngagementSlice>& slices,
+                     std::vector<double>& tested_at, const std::vector<double>& bottom,
+                     const std::vector<double>& top) {
+  const bool vertical_axis = std::abs(query.a.z()) > 1.0 - 1e-12;
   for (std::size_t k = 0; k < slices.size(); ++k) {
     if (slices[k].arc_count == 0)
       continue;
@@ -397,7 +390,7 @@ CutterEngagement engagement_at(const DexelStock& stock, const CutterShape& cutte
     const bool run_bottom = k == 0 || slices[k - 1].arc_count == 0;
     if (!run_top && !run_bottom)
       continue;
-    if (const auto level = level_inside(bottom[k], top[k])) {
+    if (const auto level = level_inside(query, vertical_axis, bottom[k], top[k])) {
       if (std::abs(*level - tested_at[k]) > 1e-12 && query.test(*level, scratch)) {
         query.arcs_into(scratch, slices[k]);
         tested_at[k] = *level;
@@ -410,10 +403,13 @@ CutterEngagement engagement_at(const DexelStock& stock, const CutterShape& cutte
       slices[k].arcs = slices[k + 1].arcs;
     }
   }
+}
 
-  // The slices stay contiguous from the tip (the force model reads each
-  // slice as reaching from the top of the one below to its own top): an
-  // empty slice spans the gap between the engaged slices around it.
+// The slices stay contiguous from the tip (the force model reads each
+// slice as reaching from the top of the one below to its own top): an
+// empty slice spans the gap between the engaged slices around it.
+void close_gaps(const std::vector<EngagementSlice>& slices, std::vector<double>& bottom,
+                std::vector<double>& top) {
   const std::size_t final_count = slices.size();
   for (std::size_t k = 0; k + 1 < final_count; ++k) {
     if (slices[k].arc_count == 0)
@@ -423,8 +419,14 @@ CutterEngagement engagement_at(const DexelStock& stock, const CutterShape& cutte
     if (slices[k].arc_count == 0)
       bottom[k] = top[k - 1];
   }
+}
 
-  // 4. The engagement's figures from the final slices.
+// 4. The engagement's figures from the final slices; `result` keeps its
+// defaults (and no slices) when none is engaged.
+void take_figures(const Query& query, std::vector<EngagementSlice>& slices,
+                  const std::vector<double>& bottom, const std::vector<double>& top,
+                  CutterEngagement& result) {
+  const CutterShape& cutter = query.cutter;
   int highest = -1;
   double best_width = 0.0, best_angle = -1.0, plunge_section = 0.0;
   for (std::size_t k = 0; k < slices.size(); ++k) {
@@ -463,13 +465,61 @@ CutterEngagement engagement_at(const DexelStock& stock, const CutterShape& cutte
     }
   }
   if (highest < 0)
-    return result;
+    return;
   slices.resize(static_cast<std::size_t>(highest) + 1);
   result.axial_depth_m = slices.back().height_m + 0.5 * slices.back().thickness_m;
   result.radial_width_m = best_width;
   if (query.plunge)
     result.section_m2 = plunge_section;
   result.slices = std::move(slices);
+}
+
+}  // namespace
+
+CutterEngagement engagement_at(const DexelStock& stock, const CutterShape& cutter,
+                               const Eigen::Vector3d& tip_m, const Eigen::Vector3d& axis,
+                               const Eigen::Vector3d& feed_direction, const EngagementGrid& grid) {
+  CutterEngagement result;
+  const double radius = cutter.radius_m, length = cutter.length_m;
+  const double dz = grid.slice_height_m;
+  if (!(radius > 0.0) || !(length > 0.0) || !(dz > 0.0) || grid.angle_steps < 1 ||
+      !(axis.norm() > 0.0) || !tip_m.allFinite()) {
+    return result;
+  }
+  Query query{stock, cutter, tip_m, axis.normalized(), {}, {}};
+  const Eigen::Vector3d& a = query.a;
+  set_frame(feed_direction, query);
+
+  // Heights along the axis where the slice plane meets the stock box at all.
+  const StockBox& box = stock.box();
+  double h_lo = 0.0, h_hi = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    const double p = (box.min_m[i] - tip_m[i]) * a[i], q = (box.max_m[i] - tip_m[i]) * a[i];
+    h_lo += std::min(p, q);
+    h_hi += std::max(p, q);
+  }
+
+  // Test points half a curvature error inside the surface: the walls the
+  // cutter itself left (a plunge's hole, a slot's sides) coincide with its
+  // surface, and the stock's interpolated boundary is off by up to about
+  // 0.35 res² / R there (DexelStock::material_depth_m), so a point exactly on
+  // the surface would read air or material by rounding.
+  query.inset = surface_inset_m(grid, cutter, stock.resolution_m());
+
+  const int half_steps = grid.angle_steps;
+  query.step = kPi / half_steps;
+  query.points = query.plunge ? 2 * half_steps : half_steps;
+  thread_local Scratch scratch;
+  scratch.prepare(query.points, query.step);
+
+  std::vector<EngagementSlice> slices;
+  std::vector<double> tested_at;  // the height each slice's arcs were found at
+  test_grid(query, dz, h_lo, h_hi, scratch, slices, tested_at);
+  std::vector<double> bottom, top;  // each slice's ends along the axis
+  end_runs_at_material(query, dz, slices, tested_at, bottom, top);
+  retest_run_ends(query, scratch, slices, tested_at, bottom, top);
+  close_gaps(slices, bottom, top);
+  take_figures(query, slices, bottom, top, result);
   return result;
 }
 

@@ -15,17 +15,17 @@
 #include "robomill/analysis/deflection_sweep.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/deflection/contact_boundary.hpp"
-#include "robomill/io/job.hpp"
+#include "robomill/job/job.hpp"
 
 namespace ra = robomill::analysis;
-namespace io = robomill::io;
+namespace job = robomill::job;
 
 namespace {
 
 constexpr double pi = std::numbers::pi;
 
-io::Job example(const char* name, const std::vector<io::Override>& overrides = {}) {
-  return io::load_job(std::string(ROBOMILL_SOURCE_DIR) + "/examples/" + name, overrides);
+job::Job example(const char* name, const std::vector<job::Override>& overrides = {}) {
+  return job::load_job(std::string(ROBOMILL_SOURCE_DIR) + "/examples/" + name, overrides);
 }
 
 ra::StabilityLimit limit(double spindle_rad_s, double depth_m, bool limited = true,
@@ -51,11 +51,11 @@ ra::StabilityLimit limit(double spindle_rad_s, double depth_m, bool limited = tr
 // r² = 1 + 2ζ. Every number below comes from the job file.
 TEST(StabilityDiagram, OneDofSlotMinimumMatchesClosedForm) {
   const int count = 401;
-  const io::Job job =
+  const job::Job job =
       example("benchmark_1dof_slot.yaml",
               {{"stability.method", "zoa"}, {"stability.speeds.count", std::to_string(count)}});
   ASSERT_EQ(job.modes.size(), 1u);
-  const io::ModeSpec& mode = job.modes.front();
+  const job::ModeSpec& mode = job.modes.front();
   ASSERT_EQ(mode.direction, 'x');
   const double k = mode.stiffness_n_per_m, zeta = mode.damping_ratio;
   const double fn = mode.natural_frequency_hz;
@@ -76,7 +76,7 @@ TEST(StabilityDiagram, OneDofSlotMinimumMatchesClosedForm) {
   const double closed = -1.0 / (2.0 * ks * min_re_g);
 
   const ra::StabilityDiagram diagram = ra::stability_diagram(job, 2);
-  EXPECT_EQ(diagram.method, io::StabilitySettings::Method::zoa);
+  EXPECT_EQ(diagram.method, job::StabilitySettings::Method::zoa);
   ASSERT_TRUE(diagram.modes.has_value());
   EXPECT_EQ(diagram.modes->size(), 1);
   ASSERT_EQ(diagram.coupled.size(), static_cast<std::size_t>(count));
@@ -113,7 +113,7 @@ TEST(StabilityDiagram, OneDofSlotMinimumMatchesClosedForm) {
 // The job's cutting tests against the diagram: inside the range each is
 // compared at the interpolated limit; outside it is left uncompared.
 TEST(StabilityDiagram, ExperimentsAreJudgedAtTheInterpolatedLimit) {
-  const io::Job job =
+  const job::Job job =
       example("benchmark_1dof_slot.yaml", {{"stability.method", "zoa"},
                                            {"stability.speeds.count", "41"},
                                            {"experiments",
@@ -171,7 +171,7 @@ TEST(StabilityDiagram, FiguresCountUnlimitedAndPeriodDoublingSpeeds) {
 
 // The method checks name the field.
 TEST(StabilityDiagram, UnsupportedCombinationsNameTheField) {
-  const io::Job map_by_zoa =
+  const job::Job map_by_zoa =
       example("benchmark_1dof_slot.yaml", {{"stability.method", "zoa"}, {"stability.mode", "map"}});
   try {
     ra::stability_diagram(map_by_zoa, 1);
@@ -184,7 +184,7 @@ TEST(StabilityDiagram, UnsupportedCombinationsNameTheField) {
 // robomill deflection's sweep (000 Eq 22): without deflection.depths the
 // sweep ends at 1.5 ap_lim (or the overhang) in equal steps from to/count.
 TEST(DeflectionSweep, AutomaticDepthsSpanBothContactCases) {
-  const io::Job job = example("demo.yaml");
+  const job::Job job = example("demo.yaml");
   const ra::DeflectionSweep sweep = ra::deflection_sweep(job, 2);
   ASSERT_EQ(sweep.depths_m.size(), sweep.boundaries.size());
   ASSERT_GE(sweep.depths_m.size(), 2u);

@@ -1,4 +1,4 @@
-// The `atlas:` job section (src/io/job_parser_atlas.cpp): units converted at
+// The `atlas:` job section (src/job/job_parser_atlas.cpp): units converted at
 // parsing, redundancy ranges expanded, the feed projected into the cutting
 // plane, and bad input naming its field.
 
@@ -9,7 +9,7 @@
 #include <numbers>
 
 #include "robomill/core/error.hpp"
-#include "robomill/io/job.hpp"
+#include "robomill/job/job.hpp"
 
 namespace robomill::io {
 namespace {
@@ -17,9 +17,9 @@ namespace {
 const std::filesystem::path kExample =
     std::filesystem::path(ROBOMILL_SOURCE_DIR) / "examples" / "003_kr270_atlas.yaml";
 
-std::string field_of(const std::vector<Override>& overrides) {
+std::string field_of(const std::vector<job::Override>& overrides) {
   try {
-    load_job(kExample, overrides);
+    job::load_job(kExample, overrides);
   } catch (const InputError& e) {
     return e.field();
   }
@@ -27,7 +27,7 @@ std::string field_of(const std::vector<Override>& overrides) {
 }
 
 TEST(AtlasJob, ExampleInSiWithRedundancyRangeExpanded) {
-  const Job job = load_job(kExample);
+  const job::Job job = job::load_job(kExample);
   ASSERT_TRUE(job.atlas);
   const atlas::AtlasSpec& a = *job.atlas;
   EXPECT_DOUBLE_EQ(a.from_m.x(), 1.4);
@@ -45,7 +45,8 @@ TEST(AtlasJob, ExampleInSiWithRedundancyRangeExpanded) {
 }
 
 TEST(AtlasJob, FeedProjectedIntoTheCuttingPlane) {
-  const Job job = load_job(kExample, {{"atlas.feed", "[1, 0, 1]"}, {"atlas.redundancy", "10"}});
+  const job::Job job =
+      job::load_job(kExample, {{"atlas.feed", "[1, 0, 1]"}, {"atlas.redundancy", "10"}});
   EXPECT_NEAR(job.atlas->feed.x(), 1.0, 1e-15);
   EXPECT_NEAR(job.atlas->feed.z(), 0.0, 1e-15);
   ASSERT_EQ(job.atlas->redundancy_rad.size(), 1u);

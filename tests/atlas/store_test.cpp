@@ -11,7 +11,7 @@
 
 #include "robomill/atlas/atlas.hpp"
 #include "robomill/atlas/store.hpp"
-#include "robomill/io/job.hpp"
+#include "robomill/job/job.hpp"
 #include "robomill/robot/robot_model.hpp"
 
 namespace robomill::atlas {
@@ -159,8 +159,8 @@ TEST(AtlasStore, CorruptOrForeignFileIsAnErrorAndLeftAlone) {
 }
 
 TEST(AtlasContext, ResultsDoNotDependOnOrder) {
-  const io::Job job =
-      io::load_job(fs::path(ROBOMILL_SOURCE_DIR) / "examples" / "003_kr270_atlas.yaml");
+  const job::Job job =
+      job::load_job(fs::path(ROBOMILL_SOURCE_DIR) / "examples" / "003_kr270_atlas.yaml");
   ASSERT_TRUE(job.atlas);
   AtlasSpec spec = *job.atlas;
   spec.speed_count = 12;

@@ -17,9 +17,10 @@
 #include <string>
 
 #include "krl_pair.hpp"
-#include "robomill/io/job.hpp"
+#include "robomill/analysis/program_file.hpp"
 #include "robomill/io/krl_frame_turn.hpp"
 #include "robomill/io/program_readers.hpp"
+#include "robomill/job/job.hpp"
 
 namespace robomill::io {
 namespace {
@@ -51,8 +52,8 @@ Eigen::Matrix3d first_orientation(const std::string& text) {
 
 TEST(KrlFrameTurn, TheExamplePocketReadsBackWithEveryToolXTurned) {
   const fs::path source = fs::path(ROBOMILL_SOURCE_DIR) / "examples";
-  const Job job = load_job(source / "toolpath_pocket_krl.yaml");
-  const ToolpathSettings& settings = *job.toolpath;
+  const job::Job job = job::load_job(source / "toolpath_pocket_krl.yaml");
+  const job::ToolpathSettings& settings = *job.toolpath;
   const std::string src = read(settings.file), dat = read(settings.dat_file);
   const double turn = 30.0 * kDeg;
   const KrlFrameTurn turned = turn_krl_frames(src, dat, turn, settings.tool_direction);
@@ -68,7 +69,7 @@ TEST(KrlFrameTurn, TheExamplePocketReadsBackWithEveryToolXTurned) {
   EXPECT_NE(turned.src.find(";FOLD INI;%{PE}"), std::string::npos);
   EXPECT_NE(turned.src.find("$BASE=BASE_DATA[1]"), std::string::npos);
 
-  const toolpath::Program before = read_program(settings);
+  const toolpath::Program before = analysis::read_program(settings);
   const toolpath::Program after =
       testing::read_krl_pair(settings, turned.src, turned.dat, "robomill_krl_turn");
   ASSERT_EQ(before.moves.size(), after.moves.size());
@@ -128,10 +129,10 @@ TEST(KrlFrameTurn, FramesThatCannotBeTurnedAreNamedAndPlacementsKept) {
 // PTP's 15°, the FINISH points keep 0°).
 TEST(KrlFrameTurn, EachFrameByItsOwnAngleFromTheSitesTheReaderRecords) {
   const fs::path source = fs::path(ROBOMILL_SOURCE_DIR) / "examples";
-  const Job job = load_job(source / "toolpath_pocket_krl.yaml");
-  const ToolpathSettings& settings = *job.toolpath;
+  const job::Job job = job::load_job(source / "toolpath_pocket_krl.yaml");
+  const job::ToolpathSettings& settings = *job.toolpath;
   const std::string src = read(settings.file), dat = read(settings.dat_file);
-  const toolpath::Program before = read_program(settings);
+  const toolpath::Program before = analysis::read_program(settings);
   // The sites: XHOME (.dat line 4) is the first point; the PTPs on .src lines
   // 19-20; the ramp and the slot (lines 23, 26) partial; SIDE[1..5] on .dat
   // lines 7-11, FINISH on 13-17; the last PTP partial, then XHOME again.

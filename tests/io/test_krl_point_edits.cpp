@@ -16,9 +16,10 @@
 #include <string>
 
 #include "krl_pair.hpp"
-#include "robomill/io/job.hpp"
+#include "robomill/analysis/program_file.hpp"
 #include "robomill/io/krl_point_edits.hpp"
 #include "robomill/io/program_readers.hpp"
+#include "robomill/job/job.hpp"
 
 namespace robomill::io {
 namespace {
@@ -34,18 +35,18 @@ std::string read(const fs::path& file) {
 
 TEST(KrlPointEdits, EndsMoveWhereTheirPointsAreWrittenAndReadBack) {
   const fs::path source = fs::path(ROBOMILL_SOURCE_DIR) / "examples";
-  const Job job = load_job(source / "toolpath_pocket_krl.yaml");
-  ToolpathSettings settings = *job.toolpath;
+  const job::Job job = job::load_job(source / "toolpath_pocket_krl.yaml");
+  job::ToolpathSettings settings = *job.toolpath;
   // Base 1 turned and shifted, so that offsets must be taken into it.
   Eigen::Isometry3d base = Eigen::Isometry3d::Identity();
   base.translate(Eigen::Vector3d(0.1, -0.05, 0.02));
   base.rotate(Eigen::AngleAxisd(0.7, Eigen::Vector3d(0.2, 0.3, 1.0).normalized()));
   settings.bases[1] = base;
   const std::string src = read(settings.file), dat = read(settings.dat_file);
-  toolpath::Program program = read_program(settings);
+  toolpath::Program program = analysis::read_program(settings);
   toolpath::apply_transform(program, settings.program_to_workpiece.inverse());
 
-  const toolpath::WritableMoves writable = krl_writable_moves(program);
+  const robot_path::WritableMoves writable = krl_writable_moves(program);
   ASSERT_EQ(writable.end.size(), program.moves.size());
   int inline_lines = 0, loop_points = 0, home = 0;
   for (std::size_t m = 0; m < program.moves.size(); ++m) {
@@ -68,7 +69,7 @@ TEST(KrlPointEdits, EndsMoveWhereTheirPointsAreWrittenAndReadBack) {
 
   // The slot (line 26) moved with two points inside; SIDE[2] (the loop's
   // second move) moved at its end.
-  std::vector<toolpath::LineCorrection> corrections;
+  std::vector<robot_path::LineCorrection> corrections;
   std::size_t slot = 0, side2 = 0;
   int side_seen = 0;
   for (std::size_t m = 0; m < program.moves.size(); ++m) {
@@ -89,7 +90,7 @@ TEST(KrlPointEdits, EndsMoveWhereTheirPointsAreWrittenAndReadBack) {
   toolpath::Program after =
       testing::read_krl_pair(settings, edited.src, edited.dat, "robomill_krl_points");
   toolpath::apply_transform(after, settings.program_to_workpiece.inverse());
-  const std::vector<Eigen::Vector3d> expected = toolpath::corrected_ends(program, corrections);
+  const std::vector<Eigen::Vector3d> expected = robot_path::corrected_ends(program, corrections);
   ASSERT_EQ(after.moves.size(), expected.size());
   for (std::size_t m = 0; m < after.moves.size(); ++m)
     EXPECT_LT((after.moves[m].end_m - expected[m]).norm(), 1e-9)

@@ -19,7 +19,8 @@
 #include "robomill/core/error.hpp"
 #include "robomill/io/program_readers.hpp"
 #include "robomill/io/program_writer.hpp"
-#include "robomill/toolpath/deflection_compensation.hpp"
+#include "robomill/job/job.hpp"
+#include "robomill/robot_path/deflection_compensation.hpp"
 
 namespace robomill::io {
 namespace {
@@ -30,7 +31,7 @@ TEST(ProgramWriter, GcodeGetsAnSBlockWithItsCommentAndReadsBack) {
   const std::string text =
       "%\nO1 (T)\nG90 G21 G17\nT1 M6\nS8000 M3\nG0 X0 Y0 Z5\nG1 Z-1 F300\nG1 X50\nG0 Z5\nM30\n%\n";
   const std::string written =
-      write_spindle_edits(text, ToolpathSettings::Format::gcode,
+      write_spindle_edits(text, job::ToolpathSettings::Format::gcode,
                           {{8, 9500 * kRadSPerRpm, "robomill: S8000 -> S9500 (margin)"},
                            {9, 8000 * kRadSPerRpm, "robomill: back"}});
   EXPECT_NE(written.find("S9500 (robomill: S8000 -> S9500 [margin])\nG1 X50\n"), std::string::npos)
@@ -61,7 +62,7 @@ TEST(ProgramWriter, AptGetsSpindlWithDirectionAndKeepsCrLf) {
   const std::string text =
       "UNITS/MM\r\nLOADTL/1\r\nSPINDL/RPM,3000,CCLW\r\nFEDRAT/MMPM,200\r\nGOTO/0,0,5\r\n"
       "GOTO/0,0,-1\r\nGOTO/40,0,-1\r\nFINI\r\n";
-  const std::string written = write_spindle_edits(text, ToolpathSettings::Format::apt,
+  const std::string written = write_spindle_edits(text, job::ToolpathSettings::Format::apt,
                                                   {{7, -4200 * kRadSPerRpm, "robomill: faster"}});
   EXPECT_NE(written.find("$$ robomill: faster\r\nSPINDL/RPM,4200,CCLW\r\nGOTO/40,0,-1\r\n"),
             std::string::npos)
@@ -72,14 +73,14 @@ TEST(ProgramWriter, AptGetsSpindlWithDirectionAndKeepsCrLf) {
 }
 
 TEST(ProgramWriter, EditsAtTheEndAndWithoutAFinalLineEnd) {
-  EXPECT_EQ(write_spindle_edits("G0 X0", ToolpathSettings::Format::gcode,
+  EXPECT_EQ(write_spindle_edits("G0 X0", job::ToolpathSettings::Format::gcode,
                                 {{2, 1000 * kRadSPerRpm, "end"}}),
             "G0 X0\nS1000 (end)\n");
 }
 
 TEST(ProgramWriter, KrlIsRefusedByName) {
   try {
-    (void)write_spindle_edits("LIN P1\n", ToolpathSettings::Format::krl, {{1, 100.0, "x"}});
+    (void)write_spindle_edits("LIN P1\n", job::ToolpathSettings::Format::krl, {{1, 100.0, "x"}});
     FAIL() << "expected an InputError";
   } catch (const InputError& error) {
     EXPECT_NE(std::string(error.what()).find("toolpath.format"), std::string::npos);
@@ -100,7 +101,7 @@ TEST(ProgramWriter, GcodeFeedsRescaledInTheLineOrBeforeItAndRestored) {
   const std::string text =
       "%\nG90 G21 G17\nT1 M6\nS8000 M3\nG0 X0 Y0 Z5\nG1 Z-1 F300 (plunge)\nG1 X50 F800\n"
       "G1 Y20\nG1 X0\nG0 Z5\nM30\n%\n";
-  const std::string written = write_program_edits(text, ToolpathSettings::Format::gcode, {},
+  const std::string written = write_program_edits(text, job::ToolpathSettings::Format::gcode, {},
                                                   {{7, 0.5, 0.0, "robomill: feed (force)"},
                                                    {8, 0.25, 0.0, "robomill: slower"},
                                                    {9, 1.0, 0.0, "back"}});
@@ -124,8 +125,8 @@ TEST(ProgramWriter, GcodeInchAndPerRevolutionFeedsKeepTheirUnits) {
   const std::string inch = "G20 G90 G94\nS1000 M3\nG1 X1 F10.0\nG1 X2\nM30\n";
   const std::string per_rev = "G21 G90 G95\nS1000 M3\nG1 X1 F0.2\nG1 X2\nM30\n";
   for (const std::string& text : {inch, per_rev}) {
-    const std::string written =
-        write_program_edits(text, ToolpathSettings::Format::gcode, {}, {{4, 0.37, 0.0, "slower"}});
+    const std::string written = write_program_edits(text, job::ToolpathSettings::Format::gcode, {},
+                                                    {{4, 0.37, 0.0, "slower"}});
     const std::vector<double> before = feeds_mm_min(read_gcode(text, {}));
     const std::vector<double> after = feeds_mm_min(read_gcode(written, {}));
     ASSERT_EQ(before.size(), after.size()) << written;
@@ -136,7 +137,7 @@ TEST(ProgramWriter, GcodeInchAndPerRevolutionFeedsKeepTheirUnits) {
 
 TEST(ProgramWriter, GcodeFeedAsAnExpressionIsRefusedWithItsLine) {
   try {
-    (void)write_program_edits("G1 X1 F[100*2]\nG1 X2\n", ToolpathSettings::Format::gcode, {},
+    (void)write_program_edits("G1 X1 F[100*2]\nG1 X2\n", job::ToolpathSettings::Format::gcode, {},
                               {{2, 0.5, 0.0, "x"}});
     FAIL() << "expected an InputError";
   } catch (const InputError& error) {
@@ -150,7 +151,7 @@ TEST(ProgramWriter, AptFedratInForceRescaledInEitherOrderAndRestoredAsWritten) {
     const std::string text = "UNITS/MM\nLOADTL/1\nSPINDL/RPM,3000,CLW\n" + fedrat +
                              "\nGOTO/0,0,5\nGOTO/0,0,-1\nGOTO/40,0,-1\nGOTO/40,20,-1\nFINI\n";
     const std::string written =
-        write_program_edits(text, ToolpathSettings::Format::apt, {},
+        write_program_edits(text, job::ToolpathSettings::Format::apt, {},
                             {{7, 0.5, 0.0, "robomill: slower"}, {8, 1.0, 0.0, "robomill: back"}});
     EXPECT_NE(written.find("$$ robomill: slower\nFEDRAT/"), std::string::npos) << written;
     EXPECT_NE(written.find("$$ robomill: back\n" + fedrat + "\nGOTO/40,20,-1"), std::string::npos)
@@ -170,7 +171,7 @@ TEST(ProgramWriter, KrlPathSpeedSetBeforeTheMotionAndRestored) {
       "LIN {X 0, Y 0, Z -1, A 0, B 0, C 0}\nLIN {X 40, Y 0, Z -1, A 0, B 0, C 0}\n"
       "LIN {X 40, Y 20, Z -1, A 0, B 0, C 0}\nEND\n";
   const std::string written =
-      write_program_edits(text, ToolpathSettings::Format::krl, {},
+      write_program_edits(text, job::ToolpathSettings::Format::krl, {},
                           {{5, 0.5, 0.02, "robomill: slower"}, {6, 1.0, 0.02, "back"}});
   EXPECT_NE(written.find("$VEL.CP=0.01 ; robomill: slower\nLIN {X 40, Y 0"), std::string::npos)
       << written;
@@ -229,7 +230,7 @@ std::map<int, int> moves_per_line(const toolpath::Program& program) {
   return count;
 }
 
-void check(const std::string& name, const std::string& text, ToolpathSettings::Format format,
+void check(const std::string& name, const std::string& text, job::ToolpathSettings::Format format,
            const std::function<toolpath::Program(const std::string&)>& read, Checked& checked) {
   std::optional<toolpath::Program> program = readable(read, text);
   if (!program)
@@ -301,7 +302,7 @@ void check(const std::string& name, const std::string& text, ToolpathSettings::F
 // its name, text, format and reader.
 using Reader = std::function<toolpath::Program(const std::string&)>;
 void for_each_gcode_and_apt(
-    const std::function<void(const std::string&, const std::string&, ToolpathSettings::Format,
+    const std::function<void(const std::string&, const std::string&, job::ToolpathSettings::Format,
                              const Reader&, bool gcode)>& visit) {
   const fs::path root = fs::path(ROBOMILL_SOURCE_DIR) / "tests" / "toolpath";
   const Reader gcode = [](const std::string& t) { return read_gcode(t, {}); };
@@ -310,12 +311,12 @@ void for_each_gcode_and_apt(
     const std::string ext = entry.path().extension().string();
     if (entry.is_regular_file() && (ext == ".nc" || ext == ".ngc"))
       visit(entry.path().filename().string(), text_of(entry.path()),
-            ToolpathSettings::Format::gcode, gcode, true);
+            job::ToolpathSettings::Format::gcode, gcode, true);
   }
   for (const auto& entry : fs::directory_iterator(root / "apt"))
     if (entry.is_regular_file())
-      visit(entry.path().filename().string(), text_of(entry.path()), ToolpathSettings::Format::apt,
-            apt, false);
+      visit(entry.path().filename().string(), text_of(entry.path()),
+            job::ToolpathSettings::Format::apt, apt, false);
 }
 
 }  // namespace corpus
@@ -324,7 +325,7 @@ TEST(ProgramWriter, FeedsOfTheReaderCorpusRoundTrip) {
   const corpus::fs::path root = corpus::fs::path(ROBOMILL_SOURCE_DIR) / "tests" / "toolpath";
   corpus::Checked gcode, apt, krl;
   corpus::for_each_gcode_and_apt(
-      [&](const std::string& name, const std::string& text, ToolpathSettings::Format format,
+      [&](const std::string& name, const std::string& text, job::ToolpathSettings::Format format,
           const corpus::Reader& read,
           bool is_gcode) { corpus::check(name, text, format, read, is_gcode ? gcode : apt); });
   for (const auto& entry : corpus::fs::directory_iterator(root / "krl")) {
@@ -335,8 +336,8 @@ TEST(ProgramWriter, FeedsOfTheReaderCorpusRoundTrip) {
     options.dat_text = corpus::text_of(corpus::fs::path(entry.path()).replace_extension(".dat"));
     corpus::check(
         entry.path().filename().string(), corpus::text_of(entry.path()),
-        ToolpathSettings::Format::krl, [&](const std::string& t) { return read_krl(t, options); },
-        krl);
+        job::ToolpathSettings::Format::krl,
+        [&](const std::string& t) { return read_krl(t, options); }, krl);
   }
   // The corpus as it stands: most G-code programs read with default
   // options; every APT and KRL program does.
@@ -375,7 +376,7 @@ struct Checked {
   int programs = 0, edited = 0, skipped = 0, added = 0;
 };
 
-void check(const std::string& name, const std::string& text, ToolpathSettings::Format format,
+void check(const std::string& name, const std::string& text, job::ToolpathSettings::Format format,
            const std::function<toolpath::Program(const std::string&)>& read, Checked& checked) {
   const std::optional<toolpath::Program> program = corpus::readable(read, text);
   if (!program)
@@ -384,7 +385,7 @@ void check(const std::string& name, const std::string& text, ToolpathSettings::F
   std::map<int, int> moves_on_line = corpus::moves_per_line(before);
   const Eigen::Vector3d offset(30e-6, -20e-6, 10e-6);
   std::vector<PointEdit> edits;
-  std::vector<toolpath::LineCorrection> corrections;
+  std::vector<robot_path::LineCorrection> corrections;
   int k = 0;
   for (std::size_t m = 0; m < before.moves.size(); ++m) {
     const toolpath::Move& move = before.moves[m];
@@ -394,7 +395,7 @@ void check(const std::string& name, const std::string& text, ToolpathSettings::F
         k++ % 2 != 0)
       continue;
     PointEdit edit{move.line, offset, {}, "robomill: test", std::nullopt};
-    toolpath::LineCorrection correction{m, move.line, offset, {}, std::nullopt};
+    robot_path::LineCorrection correction{m, move.line, offset, {}, std::nullopt};
     if (k % 4 == 1) {  // every other edit adds two points inside its line
       edit.points = {{0.25, Eigen::Vector3d(-15e-6, 5e-6, 0.0)}, {0.6, offset}};
       correction.points = {{0.25, edit.points[0].offset_m}, {0.6, offset}};
@@ -408,7 +409,7 @@ void check(const std::string& name, const std::string& text, ToolpathSettings::F
   for (const auto& skipped : written.skipped) {
     EXPECT_FALSE(skipped.reason.empty());
     std::erase_if(corrections,
-                  [&](const toolpath::LineCorrection& c) { return c.line == skipped.line; });
+                  [&](const robot_path::LineCorrection& c) { return c.line == skipped.line; });
   }
   const std::optional<toolpath::Program> read_back = written_reads_back(name, written.text, read);
   if (!read_back)
@@ -416,7 +417,7 @@ void check(const std::string& name, const std::string& text, ToolpathSettings::F
   const toolpath::Program& after = *read_back;
   // Every written move ends where the corrected path does (the added points,
   // then the moved end; every other move where it was).
-  const std::vector<Eigen::Vector3d> expected = toolpath::corrected_ends(before, corrections);
+  const std::vector<Eigen::Vector3d> expected = robot_path::corrected_ends(before, corrections);
   ASSERT_EQ(after.moves.size(), expected.size()) << name << "\n" << written.text;
   for (std::size_t m = 0; m < after.moves.size(); ++m)
     EXPECT_LT((after.moves[m].end_m - expected[m]).norm(), 1e-6)
@@ -435,7 +436,7 @@ void check(const std::string& name, const std::string& text, ToolpathSettings::F
 TEST(ProgramWriter, MovedPointsOfTheReaderCorpusRoundTrip) {
   points::Checked gcode, apt;
   corpus::for_each_gcode_and_apt(
-      [&](const std::string& name, const std::string& text, ToolpathSettings::Format format,
+      [&](const std::string& name, const std::string& text, job::ToolpathSettings::Format format,
           const corpus::Reader& read,
           bool is_gcode) { points::check(name, text, format, read, is_gcode ? gcode : apt); });
   EXPECT_GE(gcode.programs, 20);
@@ -449,7 +450,7 @@ TEST(ProgramWriter, MovedPointsOfTheReaderCorpusRoundTrip) {
             << " added, " << apt.skipped << " skipped)\n";
   // KRL is refused by name.
   try {
-    (void)write_point_edits("DEF t( )\nEND\n", ToolpathSettings::Format::krl,
+    (void)write_point_edits("DEF t( )\nEND\n", job::ToolpathSettings::Format::krl,
                             {{1, {}, {}, "", std::nullopt}});
     ADD_FAILURE() << "KRL point edits must be refused";
   } catch (const InputError& error) {
@@ -478,7 +479,7 @@ struct Checked {
   int programs = 0, arcs = 0, skipped = 0;
 };
 
-void check(const std::string& name, const std::string& text, ToolpathSettings::Format format,
+void check(const std::string& name, const std::string& text, job::ToolpathSettings::Format format,
            const std::function<toolpath::Program(const std::string&)>& read, Checked& checked) {
   const std::optional<toolpath::Program> program = corpus::readable(read, text);
   if (!program)
@@ -487,7 +488,7 @@ void check(const std::string& name, const std::string& text, ToolpathSettings::F
   std::map<int, int> moves_on_line = corpus::moves_per_line(before);
   auto alone = [&](std::size_t m) { return moves_on_line[before.moves[m].line] == 1; };
   struct Pair {
-    toolpath::LineCorrection line, arc;
+    robot_path::LineCorrection line, arc;
   };
   std::vector<Pair> pairs;
   int k = 0;
@@ -512,7 +513,7 @@ void check(const std::string& name, const std::string& text, ToolpathSettings::F
                 arc.line,
                 centre_offset + radius_change * radial(arc.end_m),
                 {},
-                toolpath::ArcCorrection{centre_offset, radius_change, 0.0}};
+                robot_path::ArcCorrection{centre_offset, radius_change, 0.0}};
     pairs.push_back(pair);
   }
   if (pairs.empty())
@@ -541,7 +542,7 @@ void check(const std::string& name, const std::string& text, ToolpathSettings::F
   }
   if (pairs.empty())
     return;
-  std::vector<toolpath::LineCorrection> corrections;
+  std::vector<robot_path::LineCorrection> corrections;
   std::map<std::size_t, Eigen::Vector3d> centre_offset;  // by move
   for (const Pair& p : pairs) {
     corrections.push_back(p.line);
@@ -552,7 +553,7 @@ void check(const std::string& name, const std::string& text, ToolpathSettings::F
   if (!read_back)
     return;
   const toolpath::Program& after = *read_back;
-  const std::vector<Eigen::Vector3d> expected = toolpath::corrected_ends(before, corrections);
+  const std::vector<Eigen::Vector3d> expected = robot_path::corrected_ends(before, corrections);
   ASSERT_EQ(after.moves.size(), expected.size()) << name << "\n" << written.text;
   for (std::size_t m = 0; m < after.moves.size(); ++m) {
     EXPECT_LT((after.moves[m].end_m - expected[m]).norm(), 1e-6)
@@ -578,7 +579,7 @@ void check(const std::string& name, const std::string& text, ToolpathSettings::F
 TEST(ProgramWriter, MovedArcsOfTheReaderCorpusRoundTrip) {
   arcs::Checked gcode, apt;
   corpus::for_each_gcode_and_apt(
-      [&](const std::string& name, const std::string& text, ToolpathSettings::Format format,
+      [&](const std::string& name, const std::string& text, job::ToolpathSettings::Format format,
           const corpus::Reader& read,
           bool is_gcode) { arcs::check(name, text, format, read, is_gcode ? gcode : apt); });
   std::cout << "moved arcs: " << gcode.programs << " G-code programs (" << gcode.arcs << " arcs, "

@@ -8,9 +8,9 @@
 #include <cmath>
 #include <numbers>
 
+#include "robomill/analysis/structure.hpp"
 #include "robomill/cutting/milling_forces.hpp"
-#include "robomill/io/job.hpp"
-#include "robomill/io/structure.hpp"
+#include "robomill/job/job.hpp"
 #include "robomill/planning/cutting_advice.hpp"
 #include "robomill/planning/force_harmonics.hpp"
 #include "robomill/planning/redundancy_study.hpp"
@@ -261,12 +261,13 @@ TEST(CuttingAdvice, RejectsBadLimits) {
 }
 
 /// The KR270-class example: its robot and cut.
-io::Job kr270_job() {
-  return io::load_job(std::string(ROBOMILL_SOURCE_DIR) + "/examples/003_kr270_cutting_advice.yaml");
+job::Job kr270_job() {
+  return job::load_job(std::string(ROBOMILL_SOURCE_DIR) +
+                       "/examples/003_kr270_cutting_advice.yaml");
 }
 
 TEST(RedundancyStudy, AngleZeroIsTheRobotPostureAndTheBestConstantAngleIsTheMaxMin) {
-  const io::Job job = kr270_job();
+  const job::Job job = kr270_job();
   const robot::RobotModel robot(job.robot->description);
   const Eigen::VectorXd q0 =
       Eigen::Map<const Eigen::VectorXd>(job.robot->posture_rad.data(), robot.dof());
@@ -285,7 +286,7 @@ TEST(RedundancyStudy, AngleZeroIsTheRobotPostureAndTheBestConstantAngleIsTheMaxM
                                                  *job.cutting, *job.process, options);
   ASSERT_EQ(study.points.size(), 2u);
   // ψ = 0 at the posture's own pose: the IK returns the posture, and the
-  // limit equals the one from the job's from_robot modes (io::structure_modes).
+  // limit equals the one from the job's from_robot modes (analysis::structure_modes).
   const RedundancySample& zero = study.points[0].samples[2];
   ASSERT_TRUE(zero.reachable);
   EXPECT_LT((zero.q - q0).norm(), 1e-6);
@@ -293,7 +294,7 @@ TEST(RedundancyStudy, AngleZeroIsTheRobotPostureAndTheBestConstantAngleIsTheMaxM
   zoa.depth_max_m = 8e-3;
   const stability::ZeroOrderSolver direct(
       stability::RegenerativeModel(tool::Tool(*job.tool), *job.cutting, *job.process,
-                                   io::structure_modes(job)),
+                                   analysis::structure_modes(job)),
       zoa);
   EXPECT_NEAR(zero.min_limit_m, direct.limit(job.process->spindle_rad_s).depth_limit_m,
               1e-6 * zero.min_limit_m);
@@ -324,8 +325,8 @@ TEST(RedundancyStudy, AngleZeroIsTheRobotPostureAndTheBestConstantAngleIsTheMaxM
 }
 
 TEST(RedundancyStudy, AThreeJointRobotHasNoRedundancy) {
-  const io::Job job =
-      io::load_job(std::string(ROBOMILL_SOURCE_DIR) + "/examples/004_kr300_pose_optimization.yaml");
+  const job::Job job = job::load_job(std::string(ROBOMILL_SOURCE_DIR) +
+                                     "/examples/004_kr300_pose_optimization.yaml");
   const robot::RobotModel robot(job.robot->description);
   RedundancyOptions options;
   options.angles_rad = {0.0};

@@ -6,7 +6,7 @@
 
 #include <numbers>
 
-#include "robomill/io/job.hpp"
+#include "robomill/job/job.hpp"
 #include "robomill/planning/path_performance.hpp"
 #include "robomill/planning/pose_optimization.hpp"
 #include "support/case004.hpp"

@@ -8,7 +8,7 @@
 
 #include "../../src/report/detail.hpp"
 #include "robomill/core/error.hpp"
-#include "robomill/io/job.hpp"
+#include "robomill/job/job.hpp"
 #include "robomill/report/key_inputs.hpp"
 #include "robomill/report/report.hpp"
 
@@ -87,8 +87,8 @@ TEST(ReportPage, UnknownCommandsGetGenericPlotsAndScriptTextIsEscaped) {
 }
 
 TEST(ReportInputs, KeyInputsOfTheDemoJob) {
-  const robomill::io::Job job =
-      robomill::io::load_job(std::string(ROBOMILL_SOURCE_DIR) + "/examples/demo.yaml");
+  const robomill::job::Job job =
+      robomill::job::load_job(std::string(ROBOMILL_SOURCE_DIR) + "/examples/demo.yaml");
   const nlohmann::json inputs = nlohmann::json::parse(rr::key_inputs_json(job));
   ASSERT_TRUE(inputs["inputs"].is_array());
   bool ktc = false, spindle = false;
@@ -102,8 +102,8 @@ TEST(ReportInputs, KeyInputsOfTheDemoJob) {
 }
 
 TEST(ReportInputs, RobotPathSettingsAndFeedLimitsOfTheRobotPocket) {
-  const robomill::io::Job job = robomill::io::load_job(std::string(ROBOMILL_SOURCE_DIR) +
-                                                       "/examples/toolpath_robot_pocket.yaml");
+  const robomill::job::Job job = robomill::job::load_job(std::string(ROBOMILL_SOURCE_DIR) +
+                                                         "/examples/toolpath_robot_pocket.yaml");
   const nlohmann::json inputs = nlohmann::json::parse(rr::key_inputs_json(job));
   std::map<std::string, std::string> robot_path;
   for (const auto& row : inputs["inputs"])

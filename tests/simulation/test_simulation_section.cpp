@@ -1,4 +1,4 @@
-// The `simulation:` section of a job (src/io/job_parser_simulation.cpp):
+// The `simulation:` section of a job (src/job/job_parser_simulation.cpp):
 // units converted once, fixation matrices, and errors naming the field.
 
 #include <gtest/gtest.h>
@@ -6,7 +6,7 @@
 #include <string>
 
 #include "robomill/core/error.hpp"
-#include "robomill/io/job.hpp"
+#include "robomill/job/job.hpp"
 
 namespace {
 
@@ -20,7 +20,7 @@ const std::string kCut =
 void expect_error(const std::string& simulation, const std::string& field,
                   const std::string& fragment) {
   try {
-    io::parse_job(kCut + simulation, "job.yaml");
+    job::parse_job(kCut + simulation, "job.yaml");
     ADD_FAILURE() << "accepted: " << simulation;
   } catch (const InputError& error) {
     EXPECT_EQ(error.field(), field) << error.what();
@@ -29,15 +29,15 @@ void expect_error(const std::string& simulation, const std::string& field,
 }
 
 TEST(SimulationSection, ReadsAFixationInSiUnits) {
-  const io::Job job = io::parse_job(
+  const job::Job job = job::parse_job(
       kCut +
           "simulation:\n  model: 2dof\n  fixation: {mass: [100 kg, 0, 0, 100 kg], stiffness: "
           "[0.3 N/um, 3e5], damping_ratio: 0.05}\n  revolutions: 200\n  workpiece: {border: "
           "1.5}\n",
       "job.yaml");
   ASSERT_TRUE(job.simulation);
-  const io::SimulationSettings& s = *job.simulation;
-  EXPECT_EQ(s.model, io::SimulationSettings::Model::fixation);
+  const job::SimulationSettings& s = *job.simulation;
+  EXPECT_EQ(s.model, job::SimulationSettings::Model::fixation);
   EXPECT_DOUBLE_EQ(s.stiffness_n_per_m(0, 0), 3e5);
   EXPECT_DOUBLE_EQ(s.mass_kg(1, 1), 100.0);
   EXPECT_NEAR(s.damping_n_s_per_m(1, 1), 2.0 * 0.05 * std::sqrt(3e5 * 100.0), 1e-9);

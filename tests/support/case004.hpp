@@ -10,7 +10,7 @@
 #include <string>
 
 #include "robomill/cutting/milling_forces.hpp"
-#include "robomill/io/job.hpp"
+#include "robomill/job/job.hpp"
 #include "robomill/planning/path_performance.hpp"
 #include "robomill/robot/robot_model.hpp"
 #include "robomill/tool/tool.hpp"
@@ -18,8 +18,8 @@
 namespace robomill::test {
 
 struct Case004 {
-  io::Job job =
-      io::load_job(std::string(ROBOMILL_SOURCE_DIR) + "/examples/004_kr300_pose_optimization.yaml");
+  job::Job job = job::load_job(std::string(ROBOMILL_SOURCE_DIR) +
+                               "/examples/004_kr300_pose_optimization.yaml");
   robot::RobotModel robot{job.robot->description};
   tool::Tool cutter{*job.tool};
   cutting::MillingForceModel force{cutter, *job.cutting, *job.process,

@@ -23,7 +23,7 @@
 #include <cstdio>
 #include <numbers>
 
-#include "robomill/io/job.hpp"
+#include "robomill/job/job.hpp"
 #include "robomill/planning/pose_optimization.hpp"
 #include "support/case004.hpp"
 #include "support/validation_record.hpp"

@@ -25,10 +25,10 @@
 #include <iostream>
 #include <numbers>
 
+#include "robomill/analysis/structure.hpp"
 #include "robomill/dynamics/frf_noise.hpp"
 #include "robomill/dynamics/measured_receptance.hpp"
-#include "robomill/io/job.hpp"
-#include "robomill/io/structure.hpp"
+#include "robomill/job/job.hpp"
 #include "robomill/stability/lobes.hpp"
 #include "robomill/stability/zero_order.hpp"
 #include "support/validation_record.hpp"
@@ -44,8 +44,8 @@ struct Differences {
 class MeasuredDynamics : public ::testing::Test {
  protected:
   MeasuredDynamics()
-      : job_(io::load_job(std::string(ROBOMILL_SOURCE_DIR) +
-                          "/examples/003_kr270_measured_frf.yaml")),
+      : job_(job::load_job(std::string(ROBOMILL_SOURCE_DIR) +
+                           "/examples/003_kr270_measured_frf.yaml")),
         tool_(*job_.tool),
         speeds_(stability::linear_range(1000.0 * std::numbers::pi / 30.0,
                                         6000.0 * std::numbers::pi / 30.0, 100)) {}
@@ -68,8 +68,8 @@ class MeasuredDynamics : public ::testing::Test {
             stability::mean_cutting_stiffness_per_depth(tool_, *job_.cutting, *job_.process),
             tool_.teeth(), receptance, std::move(grid_rad_s), job_.stability->depth_max_m)
             .limits(speeds_);
-    const auto fitted = modal_limits(io::fit_structure(job_, measured).modes);
-    const auto exact = modal_limits(io::modal_model(job_));
+    const auto fitted = modal_limits(analysis::fit_structure(job_, measured).modes);
+    const auto exact = modal_limits(job::modal_model(job_));
     Differences d;
     for (std::size_t i = 0; i < speeds_.size(); ++i) {
       EXPECT_TRUE(direct[i].limited && fitted[i].limited && exact[i].limited);
@@ -87,7 +87,7 @@ class MeasuredDynamics : public ::testing::Test {
     std::vector<double> grid(6000);
     for (std::size_t i = 0; i < grid.size(); ++i)
       grid[i] = 10.0 * std::pow(600.0, static_cast<double>(i) / 5999.0);
-    const dynamics::ModalModel modes = io::modal_model(job_);
+    const dynamics::ModalModel modes = job::modal_model(job_);
     std::vector<dynamics::Frf> frfs;
     for (int axis = 0; axis < 2; ++axis) {
       frfs.push_back(dynamics::synthesize(modes, axis, axis, grid));
@@ -102,7 +102,7 @@ class MeasuredDynamics : public ::testing::Test {
               << " %, fitted vs exact " << 100.0 * d.fitted_vs_exact << " % (worst)\n";
   }
 
-  io::Job job_;
+  job::Job job_;
   tool::Tool tool_;
   std::vector<double> speeds_;
 };
@@ -116,7 +116,7 @@ TEST_F(MeasuredDynamics, DirectFrfAndFittedModesAgreeWithin3PercentUpTo1PercentN
 }
 
 TEST_F(MeasuredDynamics, BundledTwoPercentNoiseMeasurementFitsToTheExactDiagram) {
-  const Differences d = compare(io::load_measured_frfs(job_));
+  const Differences d = compare(analysis::load_measured_frfs(job_));
   print("bundled 2 % noise UFF58", d);
   // The fit averages the noise: its diagram stays within 1 % of the exact one.
   EXPECT_LT(d.fitted_vs_exact, 0.01);
@@ -127,12 +127,13 @@ TEST_F(MeasuredDynamics, BundledTwoPercentNoiseMeasurementFitsToTheExactDiagram)
 // must give back fn within 0.5 %, ζ within 10 % and the tip modal mass
 // 1/ψ(0)² within 10 % (the tolerances for the 003 fit).
 TEST(MeasuredDynamicsPaper000, Table2FromTheBundledHammerTest) {
-  const io::Job job =
-      io::load_job(std::string(ROBOMILL_SOURCE_DIR) + "/examples/000_kr600_multipoint.yaml");
-  const io::StructureFit fit = io::fit_structure(job, io::load_measured_frfs(job));
+  const job::Job job =
+      job::load_job(std::string(ROBOMILL_SOURCE_DIR) + "/examples/000_kr600_multipoint.yaml");
+  const analysis::StructureFit fit =
+      analysis::fit_structure(job, analysis::load_measured_frfs(job));
   ASSERT_EQ(fit.modes.size(), 2);
   for (std::size_t i = 0; i < 2; ++i) {
-    const io::ModeSpec& truth = job.modes[i];
+    const job::ModeSpec& truth = job.modes[i];
     const dynamics::Mode& fitted = fit.modes.modes()[i];
     const double mass_kg = 1.0 / fitted.shape.squaredNorm();
     std::cout << "[validation] 000 Table 2 mode " << truth.direction << ": fn "

@@ -16,8 +16,8 @@
 #include <string>
 #include <tuple>
 
-#include "robomill/io/job.hpp"
-#include "robomill/io/surface_run.hpp"
+#include "robomill/analysis/surface_run.hpp"
+#include "robomill/job/job.hpp"
 #include "support/validation_record.hpp"
 
 namespace {
@@ -79,7 +79,7 @@ void record_table3(int c, const std::string& assumptions_after_file,
 /// examples); cases 5 and 7 next to Table 3.
 TEST(Paper001Surface, Table2CasesNextToTable3) {
   for (int c = 1; c <= 9; ++c) {
-    const io::SurfaceRun run = io::run_surface_job(io::load_job(example(c)), 0);
+    const analysis::SurfaceRun run = analysis::run_surface_job(job::load_job(example(c)), 0);
     const surface::ZMapGrid& grid = run.zmap.map.grid;
     EXPECT_LE(std::max(grid.dx(), grid.dy()), run.rules.max_cell_m * (1.0 + 1e-9))
         << "case " << c << ": the paper's grid within Eq 29";
@@ -112,9 +112,9 @@ TEST(Paper001Surface, Table2CasesNextToTable3) {
     // asserted.
     const double fz_300 = run.path.feed_per_tooth_m / 10.0;
     const int cells = static_cast<int>(std::ceil(2e-3 / (std::min(fz_300, 0.1e-3) / 5.0) - 1e-9));
-    const io::SurfaceRun slow = io::run_surface_job(
-        io::load_job(example(c), {{"process.feed_rate", "300 mm/min"},
-                                  {"surface.grid", fmt::format("[{0}, {0}]", cells)}}),
+    const analysis::SurfaceRun slow = analysis::run_surface_job(
+        job::load_job(example(c), {{"process.feed_rate", "300 mm/min"},
+                                   {"surface.grid", fmt::format("[{0}, {0}]", cells)}}),
         0);
     record_table3(
         c,
@@ -141,7 +141,7 @@ TEST(Paper001Surface, Table2CasesNextToTable3) {
 
 /// Case 5 with the posture library's dynamics interpolated (001 Eq 16-18)
 /// at three postures moving away from the robot base along x.
-io::Job area_job(const char* at, const char* start) {
+job::Job area_job(const char* at, const char* start) {
   const std::string case5 = read(example(5));
   const std::string library =
       read(std::string(ROBOMILL_SOURCE_DIR) + "/examples/001_kr270_posture_library.yaml");
@@ -150,7 +150,7 @@ io::Job area_job(const char* at, const char* start) {
   std::string dynamics = library.substr(l0, l1 - l0);
   dynamics.insert(std::string("dynamics:\n").size(), std::string("  at: ") + at + "\n");
   const std::string text = case5.substr(0, d0) + dynamics + case5.substr(d1);
-  return io::parse_job(
+  return job::parse_job(
       text, example(5),
       {{"surface.grid", "[100, 100]"}, {"surface.grid_rule", "false"}, {"surface.start", start}});
 }
@@ -170,9 +170,9 @@ TEST(Paper001Surface, PostureDependentVibration) {
                             "[0, 25.995, 13.011, 0, 50.994, 0]",   // 1900 mm
                             "[0, 34.815, -1.862, 0, 57.047, 0]"};  // 2150 mm
   const char* names[] = {"A (1650 mm)", "B (1900 mm)", "C (2150 mm)"};
-  io::Job still_job = area_job(postures[0], "steady");
+  job::Job still_job = area_job(postures[0], "steady");
   still_job.surface->vibration = false;
-  const io::SurfaceRun still = io::run_surface_job(still_job, 0);
+  const analysis::SurfaceRun still = analysis::run_surface_job(still_job, 0);
   std::printf(
       "[validation] 001 case 5 without vibration: Ra %.3f um, Sa %.3f um, Sz %.3f um, max "
       "residual %.3f um\n",
@@ -181,8 +181,8 @@ TEST(Paper001Surface, PostureDependentVibration) {
   double sz[3] = {}, previous_hz = 1e300, previous_deflection = 0.0;
   for (int k = 0; k < 3; ++k) {
     for (const char* start : {"steady", "rest"}) {
-      const io::SurfaceRun run = io::run_surface_job(area_job(postures[k], start), 0);
-      const io::SurfaceVibration& v = *run.vibration;
+      const analysis::SurfaceRun run = analysis::run_surface_job(area_job(postures[k], start), 0);
+      const analysis::SurfaceVibration& v = *run.vibration;
       std::printf(
           "[validation] 001 case 5 area %s, IDW dynamics (first mode %.2f Hz), start: %s, "
           "static deflection y %.2f um, vibration p-p x %.2f y %.2f um, chatter %s: Ra across "

@@ -44,7 +44,7 @@
 #include <vector>
 
 #include "robomill/core/parallel.hpp"
-#include "robomill/io/job.hpp"
+#include "robomill/job/job.hpp"
 #include "robomill/simulation/response_metrics.hpp"
 #include "robomill/simulation/simulator.hpp"
 #include "robomill/simulation/spectrum.hpp"
@@ -86,8 +86,8 @@ const std::vector<std::array<bool, 2>> kTable2FrequencyAgrees = {
     {false, false}, {false, false}, {false, true}, {true, true},
     {false, false}, {true, false},  {true, false}};
 
-io::Job example(const char* name) {
-  return io::load_job(std::string(ROBOMILL_SOURCE_DIR) + "/examples/" + name);
+job::Job example(const char* name) {
+  return job::load_job(std::string(ROBOMILL_SOURCE_DIR) + "/examples/" + name);
 }
 
 struct Simulated {
@@ -95,7 +95,7 @@ struct Simulated {
   simulation::ResponseMetrics metrics;
 };
 
-Simulated run(const io::Job& job, const simulation::LinearStructure& structure, double duration_s,
+Simulated run(const job::Job& job, const simulation::LinearStructure& structure, double duration_s,
               int steps_per_tooth = 20) {
   const tool::Tool tool(*job.tool);
   simulation::SimulationOptions options;
@@ -125,7 +125,7 @@ double relative(double ours, double paper) {
 }
 
 TEST(Paper002, Table1OneDofFixation) {
-  const io::Job job = example("002_case_b_1dof.yaml");
+  const job::Job job = example("002_case_b_1dof.yaml");
   std::vector<Simulated> runs(kTable1.size());
   core::parallel_for(kTable1.size(), 0, [&](std::size_t i) {
     runs[i] = run(job, fixation(1, kTable1[i].mass_kg, kTable1[i].stiffness_n_per_m, 0.05), 3.0);
@@ -177,7 +177,7 @@ TEST(Paper002, Table1OneDofFixation) {
 }
 
 TEST(Paper002, Table2TwoDofFixation) {
-  const io::Job job = example("002_case_c_2dof.yaml");
+  const job::Job job = example("002_case_c_2dof.yaml");
   std::vector<Simulated> runs(kTable2.size());
   core::parallel_for(kTable2.size(), 0, [&](std::size_t i) {
     runs[i] = run(job, fixation(2, kTable2[i].mass_kg, kTable2[i].stiffness_n_per_m, 0.05), 3.0);
@@ -231,8 +231,8 @@ TEST(Paper002, Table2TwoDofFixation) {
 // the profile (y) deviation swings between 0.31 and 0.56 mm during the
 // engagement, then settles.
 TEST(Paper002, CaseCProfileDeviation) {
-  const io::Job job = example("002_case_c_2dof.yaml");
-  const io::SimulationSettings& s = *job.simulation;
+  const job::Job job = example("002_case_c_2dof.yaml");
+  const job::SimulationSettings& s = *job.simulation;
   const Simulated r =
       run(job, simulation::fixation_structure(s.mass_kg, s.damping_n_s_per_m, s.stiffness_n_per_m),
           2.0);
@@ -264,7 +264,7 @@ TEST(Paper002, CaseCProfileDeviation) {
 // (0.15 s); phase II — slotting with n_c = 2 and harmonic forces at
 // Ω N / 2π = 667 Hz.
 TEST(Paper002, CaseAPhases) {
-  const io::Job job = example("002_case_a_rigid.yaml");
+  const job::Job job = example("002_case_a_rigid.yaml");
   const Simulated r = run(job, simulation::rigid_structure(), 0.25, 40);
   double phase_ia_end = 0.0;
   int most_in_ib = 0;

@@ -25,7 +25,7 @@
 #include <iostream>
 #include <numbers>
 
-#include "robomill/io/job.hpp"
+#include "robomill/job/job.hpp"
 #include "robomill/stability/lobes.hpp"
 #include "robomill/stability/process_damping.hpp"
 #include "support/validation_record.hpp"
@@ -35,7 +35,7 @@ namespace {
 using namespace robomill;
 
 /// 003 §3.1's energy-balance process damping with the job's Ksp, wear land, μ.
-stability::ProcessDamping energy_balance_damping(const io::Job& job) {
+stability::ProcessDamping energy_balance_damping(const job::Job& job) {
   stability::ProcessDamping damping;
   damping.model = stability::ProcessDampingModel::energy_balance;
   damping.indentation_n_per_m3 = job.stability->indentation_n_per_m3;
@@ -45,11 +45,11 @@ stability::ProcessDamping energy_balance_damping(const io::Job& job) {
 }
 
 TEST(Paper003, RobotModesGovernLowSpeedsAndTheToolModeHighSpeeds) {
-  const io::Job job =
-      io::load_job(std::string(ROBOMILL_SOURCE_DIR) + "/examples/003_kr270_process_damping.yaml",
-                   {{"process.ae", "6 mm"}});
+  const job::Job job =
+      job::load_job(std::string(ROBOMILL_SOURCE_DIR) + "/examples/003_kr270_process_damping.yaml",
+                    {{"process.ae", "6 mm"}});
   const stability::RegenerativeModel model(tool::Tool(*job.tool), *job.cutting, *job.process,
-                                           io::modal_model(job));
+                                           job::modal_model(job));
   const stability::ProcessDamping damping = energy_balance_damping(job);
   stability::ProcessDampedOptions options;
   options.method = stability::MultiModeMethod::envelope;
@@ -111,9 +111,9 @@ TEST(Paper003, RobotModesGovernLowSpeedsAndTheToolModeHighSpeeds) {
 //          which the coupled diagram reproduces: it calls 0.25-0.75 mm
 //          unstable. The truth (0.75-1.0 mm) lies between the two diagrams.
 TEST(Paper003, Table2SlotTestsAgainstTheCoupledDiagramAndTheEnvelope) {
-  const io::Job job =
-      io::load_job(std::string(ROBOMILL_SOURCE_DIR) + "/examples/003_kr270_process_damping.yaml");
-  const dynamics::ModalModel modes = io::modal_model(job);
+  const job::Job job =
+      job::load_job(std::string(ROBOMILL_SOURCE_DIR) + "/examples/003_kr270_process_damping.yaml");
+  const dynamics::ModalModel modes = job::modal_model(job);
   auto model_of = [&](const dynamics::ModalModel& m) {
     return stability::RegenerativeModel(tool::Tool(*job.tool), *job.cutting, *job.process, m);
   };

@@ -16,7 +16,7 @@
 #include <numbers>
 
 #include "robomill/cutting/milling_forces.hpp"
-#include "robomill/io/job.hpp"
+#include "robomill/job/job.hpp"
 #include "support/validation_record.hpp"
 
 namespace {
@@ -25,8 +25,8 @@ using namespace robomill;
 constexpr double kPi = std::numbers::pi;
 
 TEST(Paper004, Figure6ForceFundamentalIsTheToothPassingFrequency) {
-  const io::Job job =
-      io::load_job(std::string(ROBOMILL_SOURCE_DIR) + "/examples/004_kr300_pose_optimization.yaml");
+  const job::Job job = job::load_job(std::string(ROBOMILL_SOURCE_DIR) +
+                                     "/examples/004_kr300_pose_optimization.yaml");
   const tool::Tool cutter(*job.tool);
   const cutting::MillingForceModel model(
       cutter, *job.cutting, *job.process,

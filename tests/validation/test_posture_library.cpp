@@ -35,7 +35,7 @@
 #include <numbers>
 #include <string>
 
-#include "robomill/io/job.hpp"
+#include "robomill/job/job.hpp"
 #include "robomill/robot/joint_dynamics.hpp"
 #include "robomill/robot/kinematics.hpp"
 #include "robomill/robot/robot_model.hpp"
@@ -54,14 +54,14 @@ std::string degrees_list(const Eigen::VectorXd& q_rad) {
   return text + "]";
 }
 
-io::Job at_posture(const std::string& posture_deg, double power = 1.0) {
-  return io::load_job(
+job::Job at_posture(const std::string& posture_deg, double power = 1.0) {
+  return job::load_job(
       kJob, {{"robot.posture", posture_deg}, {"dynamics.idw.power", std::to_string(power)}});
 }
 
 /// The model's value the library was built from: the most compliant mode
 /// below 60 Hz along tool axis `axis`.
-robot::DirectionalModalParameters model_mode(const io::Job& job, int axis) {
+robot::DirectionalModalParameters model_mode(const job::Job& job, int axis) {
   const robot::RobotModel model(job.robot->description);
   const Eigen::VectorXd q = Eigen::Map<const Eigen::VectorXd>(job.robot->posture_rad.data(), 6);
   const auto modes = robot::directional_modal_parameters(
@@ -77,16 +77,16 @@ robot::DirectionalModalParameters model_mode(const io::Job& job, int axis) {
 }
 
 TEST(PostureLibrary, ExactAtEveryMeasuredPosture) {
-  const io::Job base = io::load_job(kJob);
-  const io::PostureLibrary& library = *base.posture_library;
+  const job::Job base = job::load_job(kJob);
+  const job::PostureLibrary& library = *base.posture_library;
   ASSERT_EQ(library.postures_rad.size(), 15u);
   for (std::size_t i = 0; i < library.postures_rad.size(); ++i) {
-    const io::Job job = at_posture(degrees_list(library.postures_rad[i]));
+    const job::Job job = at_posture(degrees_list(library.postures_rad[i]));
     EXPECT_EQ(job.posture_library->exact_index, static_cast<int>(i));
     ASSERT_EQ(job.modes.size(), library.tables[i].size());
     for (std::size_t k = 0; k < job.modes.size(); ++k) {
-      const io::ModeSpec& got = job.modes[k];
-      const io::ModeSpec& measured = library.tables[i][k];
+      const job::ModeSpec& got = job.modes[k];
+      const job::ModeSpec& measured = library.tables[i][k];
       // Degrees → radians → degrees in the override: 1e-12 relative.
       EXPECT_NEAR(got.natural_frequency_hz, measured.natural_frequency_hz,
                   1e-12 * measured.natural_frequency_hz);
@@ -104,21 +104,21 @@ TEST(PostureLibrary, HeldOutPosturesAgainstTheModel) {
       "[-9.593, 22.56, 18.463, 0, 48.977, -9.593]", "[-8.427, 31.125, 4.501, 0, 54.374, -8.427]",
       "[9.593, 22.56, 18.463, 0, 48.977, 9.593]", "[8.427, 31.125, 4.501, 0, 54.374, 8.427]"};
   const char* where[] = {"[1775, -300]", "[2025, -300]", "[1775, 300]", "[2025, 300]"};
-  const io::Job base = io::load_job(kJob);
+  const job::Job base = job::load_job(kJob);
   for (int h = 0; h < 4; ++h) {
-    const io::Job p1 = at_posture(held_out[h], 1.0);
-    const io::Job p2 = at_posture(held_out[h], 2.0);
+    const job::Job p1 = at_posture(held_out[h], 1.0);
+    const job::Job p2 = at_posture(held_out[h], 2.0);
     EXPECT_EQ(p1.posture_library->exact_index, -1);
     // Weights: non-negative, summing to one (001 Eq 18).
     EXPECT_NEAR(p1.posture_library->weights.sum(), 1.0, 1e-12);
     EXPECT_GE(p1.posture_library->weights.minCoeff(), 0.0);
     for (int axis = 0; axis < 2; ++axis) {
-      const io::ModeSpec& idw1 = p1.modes[static_cast<std::size_t>(axis)];
-      const io::ModeSpec& idw2 = p2.modes[static_cast<std::size_t>(axis)];
+      const job::ModeSpec& idw1 = p1.modes[static_cast<std::size_t>(axis)];
+      const job::ModeSpec& idw2 = p2.modes[static_cast<std::size_t>(axis)];
       const auto truth = model_mode(p1, axis);
       double fn_min = INFINITY, fn_max = 0.0, k_min = INFINITY, k_max = 0.0;
       for (const auto& table : base.posture_library->tables) {
-        const io::ModeSpec& m = table[static_cast<std::size_t>(axis)];
+        const job::ModeSpec& m = table[static_cast<std::size_t>(axis)];
         fn_min = std::min(fn_min, m.natural_frequency_hz);
         fn_max = std::max(fn_max, m.natural_frequency_hz);
         k_min = std::min(k_min, m.stiffness_n_per_m);

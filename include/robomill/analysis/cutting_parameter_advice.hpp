@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "robomill/dynamics/modal_model.hpp"
-#include "robomill/io/job.hpp"
+#include "robomill/job/job.hpp"
 #include "robomill/planning/cutting_advice.hpp"
 #include "robomill/planning/redundancy_study.hpp"
 #include "robomill/robot/robot_model.hpp"
@@ -38,6 +38,6 @@ struct CuttingParameterAdvice {
 /// with a placed path). Throws InputError naming the field: a path point the
 /// robot does not reach within its joint limits, a discretization too coarse
 /// for the structure's highest mode, settings the planner rejects.
-CuttingParameterAdvice cutting_parameter_advice(const io::Job& job, int threads = 0);
+CuttingParameterAdvice cutting_parameter_advice(const job::Job& job, int threads = 0);
 
 }  // namespace robomill::analysis

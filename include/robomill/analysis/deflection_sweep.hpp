@@ -8,12 +8,12 @@
 
 #include "robomill/deflection/contact_boundary.hpp"
 #include "robomill/deflection/deformed_engagement.hpp"
-#include "robomill/io/job.hpp"
+#include "robomill/job/job.hpp"
 
 namespace robomill::analysis {
 
 struct DeflectionSweep {
-  /// The deformation model from the job (io/deformation.hpp): tool, cut,
+  /// The deformation model from the job (analysis/deformation.hpp): tool, cut,
   /// linear law and, with deflection.robot, the robot at its posture.
   deflection::DeflectionSetup setup;
   /// The swept axial depths: deflection.depths, or ap_lim/8 … 1.5 ap_lim
@@ -38,6 +38,6 @@ struct DeflectionSweep {
 /// defaults apply (docs/job-reference.md), the robot only when the job gives
 /// one with a posture. Throws InputError naming the field, NumericalError
 /// when a depth's deformation does not converge.
-DeflectionSweep deflection_sweep(const io::Job& job, int threads = 0);
+DeflectionSweep deflection_sweep(const job::Job& job, int threads = 0);
 
 }  // namespace robomill::analysis

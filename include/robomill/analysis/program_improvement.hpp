@@ -6,14 +6,14 @@
 //  - the redundancy angle ψ: one for the whole program, or one per line
 //    turning between lines within a joint-speed bound (robot_path.
 //    redundancy_search, per_line, joint_speed_max), for the largest smallest
-//    stability margin (toolpath/program_optimization.hpp);
+//    stability margin (robot_path/program_optimization.hpp);
 //  - the spindle speed of each S word's stretch, in stability.speeds, for
 //    the postures that stretch runs at;
 //  - the feed of every line under robot_path.feed_limits' caps on force,
-//    torque, deflection and joint speed (toolpath/feed_schedule.hpp);
+//    torque, deflection and joint speed (robot_path/feed_schedule.hpp);
 //  - optionally a deflection compensation (robot_path.compensation): every
 //    straight line moved against its samples' predicted form error
-//    (toolpath/deflection_compensation.hpp);
+//    (robot_path/deflection_compensation.hpp);
 //
 // the program written back in its own dialect with a comment on every
 // change, read back through its own reader and checked move by move, and
@@ -28,14 +28,14 @@
 #include <utility>
 #include <vector>
 
-#include "robomill/io/job.hpp"
+#include "robomill/analysis/robot_path_setup.hpp"
 #include "robomill/io/krl_frame_turn.hpp"
-#include "robomill/io/robot_path.hpp"
-#include "robomill/toolpath/deflection_compensation.hpp"
-#include "robomill/toolpath/feed_schedule.hpp"
+#include "robomill/job/job.hpp"
+#include "robomill/robot_path/deflection_compensation.hpp"
+#include "robomill/robot_path/feed_schedule.hpp"
+#include "robomill/robot_path/program_optimization.hpp"
+#include "robomill/robot_path/robot_along_path.hpp"
 #include "robomill/toolpath/program_analysis.hpp"
-#include "robomill/toolpath/program_optimization.hpp"
-#include "robomill/toolpath/robot_along_path.hpp"
 
 namespace robomill::analysis {
 
@@ -45,9 +45,9 @@ namespace robomill::analysis {
 /// was at risk (1), safe (0) or had no limit (2).
 struct FirstRunRecord {
   static constexpr std::size_t kMaxRecorded = 50000;
-  std::vector<toolpath::RecordedSample> recorded;
+  std::vector<robot_path::RecordedSample> recorded;
   std::vector<unsigned char> at_risk;
-  void add(const toolpath::PathSample& sample, const toolpath::RobotSample& robot);
+  void add(const toolpath::PathSample& sample, const robot_path::RobotSample& robot);
 };
 
 /// Median, 90th percentile and largest of a sample (0 for none).
@@ -81,14 +81,14 @@ struct RedundancyDecision {
   /// each (why); one turn of all its frames was chosen instead.
   std::string per_line_refused;
   double joint_speed_max_rad_s = 0.0;  ///< per_line: the bound on every turn
-  std::optional<toolpath::RedundancySchedule> schedule;
-  std::optional<toolpath::RedundancyChoice> choice;
+  std::optional<robot_path::RedundancySchedule> schedule;
+  std::optional<robot_path::RedundancyChoice> choice;
 };
 
 /// The spindle speed of each S word's stretch.
 struct SpindleDecision {
-  std::vector<toolpath::SpindleRegion> regions;
-  std::vector<toolpath::SpindleChoice> choices;  ///< SpindleChoice::region indexes `regions`
+  std::vector<robot_path::SpindleRegion> regions;
+  std::vector<robot_path::SpindleChoice> choices;  ///< SpindleChoice::region indexes `regions`
   /// Changed speeds written into the program (a KRL program has no spindle
   /// word: its choices are reported, not written).
   bool written = false;
@@ -97,14 +97,14 @@ struct SpindleDecision {
 
 /// The feeds under the job's caps.
 struct FeedDecision {
-  toolpath::FeedLimits limits;
-  toolpath::FeedSchedule schedule;
+  robot_path::FeedLimits limits;
+  robot_path::FeedSchedule schedule;
   std::size_t lines_changed = 0, lines_slowed = 0;
 };
 
 /// The written program analysed again (before the compensation).
 struct AfterRun {
-  toolpath::RobotPathSummary robot;
+  robot_path::RobotPathSummary robot;
   double max_force_n = 0.0, max_torque_nm = 0.0, max_deflection_m = 0.0;
   double cycle_time_s = 0.0;
   double redundancy_rad = 0.0;         ///< the single ψ (a schedule's: redundancy_schedule)
@@ -117,8 +117,8 @@ struct AfterRun {
 
 /// The deflection compensation, measured on the compensated program.
 struct CompensationOutcome {
-  toolpath::CompensationSettings settings;
-  std::vector<toolpath::LineCorrection> written;     ///< the lines moved
+  robot_path::CompensationSettings settings;
+  std::vector<robot_path::LineCorrection> written;   ///< the lines moved
   std::vector<std::pair<int, std::string>> skipped;  ///< line, reason (ascending lines)
   std::size_t points_added = 0;
   double max_offset_m = 0.0;
@@ -129,7 +129,7 @@ struct CompensationOutcome {
   Percentiles residual_m, before_m;
   std::size_t wall_samples = 0;
   double max_form_error_before_m = 0.0;
-  toolpath::RobotPathSummary compensated;
+  robot_path::RobotPathSummary compensated;
   double compensated_max_force_n = 0.0, compensated_cycle_time_s = 0.0;
 };
 
@@ -157,10 +157,10 @@ struct ProgramImprovement {
 /// analysis `before`, `record`) is done; scratch files go to `scratch_dir`.
 /// Throws Error when a written program does not read back as chosen (nothing
 /// is written then).
-ProgramImprovement improve_program(const io::Job& job, const toolpath::Program& program,
+ProgramImprovement improve_program(const job::Job& job, const toolpath::Program& program,
                                    const toolpath::Tooling& tooling,
-                                   const io::RobotPathSetup& setup,
-                                   const toolpath::RobotAlongPath& before,
+                                   const analysis::RobotPathSetup& setup,
+                                   const robot_path::RobotAlongPath& before,
                                    const FirstRunRecord& record,
                                    const toolpath::ProgramAnalysis& first_pass,
                                    const std::filesystem::path& scratch_dir, int threads);

@@ -3,7 +3,7 @@
 // cell runs read in its dialect, run over the job's stock (engagement, force,
 // torque, power at every sample), and — when the job puts the part in a
 // robot cell — the robot along it: posture, chatter margin, deflection and
-// form error at every sample (toolpath/robot_along_path.hpp). With
+// form error at every sample (robot_path/robot_along_path.hpp). With
 // `optimize` also a better program (program_improvement.hpp): ψ, spindle
 // speeds, feeds and compensation chosen, written back in the program's
 // dialect, read back and analysed again.
@@ -21,11 +21,11 @@
 #include <vector>
 
 #include "robomill/analysis/program_improvement.hpp"
-#include "robomill/io/job.hpp"
-#include "robomill/io/robot_path.hpp"
+#include "robomill/analysis/robot_path_setup.hpp"
+#include "robomill/job/job.hpp"
+#include "robomill/robot_path/robot_along_path.hpp"
 #include "robomill/toolpath/dexel_stock.hpp"
 #include "robomill/toolpath/program_analysis.hpp"
-#include "robomill/toolpath/robot_along_path.hpp"
 
 namespace robomill::analysis {
 
@@ -40,12 +40,12 @@ struct BlockSharing {
   int process = 0, processes = 1;
   /// Process 0: the results and shortcut checks of a block another process
   /// computed (waits for them).
-  std::function<void(std::size_t block, std::span<toolpath::RobotSample> out,
-                     toolpath::ShortcutChecks& checks)>
+  std::function<void(std::size_t block, std::span<robot_path::RobotSample> out,
+                     robot_path::ShortcutChecks& checks)>
       receive;
   /// The other processes: hand a computed block to process 0.
-  std::function<void(std::size_t block, std::span<const toolpath::RobotSample> out,
-                     const toolpath::ShortcutChecks& checks)>
+  std::function<void(std::size_t block, std::span<const robot_path::RobotSample> out,
+                     const robot_path::ShortcutChecks& checks)>
       send;
 };
 
@@ -55,7 +55,8 @@ struct ProgramRunOptions {
   int threads = 0;  ///< 0: all cores
   /// Every block of samples in program order, with the robot's result for
   /// each (an empty span without a robot on the program).
-  std::function<void(std::span<const toolpath::PathSample>, std::span<const toolpath::RobotSample>)>
+  std::function<void(std::span<const toolpath::PathSample>,
+                     std::span<const robot_path::RobotSample>)>
       on_samples;
   std::function<void(double fraction)> progress;  ///< after each block
   /// Once the program is read and the robot set up, before the first block
@@ -84,9 +85,9 @@ struct ProgramRun {
   int max_engagement_line = 0;
   /// With a robot on the program: its setup, its analysis (the model, the
   /// totals) and the totals with the worst lines' advice.
-  std::optional<io::RobotPathSetup> robot_setup;
-  std::unique_ptr<toolpath::RobotAlongPath> robot;
-  std::optional<toolpath::RobotPathSummary> robot_summary;
+  std::optional<analysis::RobotPathSetup> robot_setup;
+  std::unique_ptr<robot_path::RobotAlongPath> robot;
+  std::optional<robot_path::RobotPathSummary> robot_summary;
   /// With ProgramRunOptions::optimize.
   std::optional<ProgramImprovement> improvement;
   double elapsed_s = 0.0;  ///< reading, the analysis and the robot (not the improvement)
@@ -95,15 +96,15 @@ struct ProgramRun {
 /// The stock the job describes: stock.box full, or the height map an
 /// earlier run left (stock.height_map: stock.csv's x_mm, y_mm, z_mm with x
 /// fastest). Throws InputError naming the stock field.
-toolpath::DexelStock job_stock(const io::Job& job);
+toolpath::DexelStock job_stock(const job::Job& job);
 
 /// The cutters by tool number (toolpath.tools, else the job's tool for
 /// every number), checked against the program's own word on them (APT
 /// CUTTER): InputError naming the program line where they disagree.
-toolpath::Tooling job_tooling(const io::Job& job, const toolpath::Program& program);
+toolpath::Tooling job_tooling(const job::Job& job, const toolpath::Program& program);
 
 /// The job's sampling and force settings for a run over a program.
-toolpath::ProgramAnalysisSettings program_analysis_settings(const io::ToolpathSettings& settings,
+toolpath::ProgramAnalysisSettings program_analysis_settings(const job::ToolpathSettings& settings,
                                                             int threads, std::string source_name);
 
 /// The run on up to options.threads threads. Needs the cutting, toolpath and
@@ -113,6 +114,6 @@ toolpath::ProgramAnalysisSettings program_analysis_settings(const io::ToolpathSe
 /// misses any), `optimize` without a robot or without a speed range or feed
 /// caps to choose from; Error when a written program does not read back as
 /// chosen (nothing is returned then).
-ProgramRun run_program(const io::Job& job, const ProgramRunOptions& options);
+ProgramRun run_program(const job::Job& job, const ProgramRunOptions& options);
 
 }  // namespace robomill::analysis

@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "robomill/dynamics/modal_model.hpp"
-#include "robomill/io/job.hpp"
+#include "robomill/job/job.hpp"
 #include "robomill/stability/lobes.hpp"
 
 namespace robomill::analysis {
@@ -64,7 +64,7 @@ std::optional<double> interpolated_limit_m(const std::vector<StabilityLimit>& li
 
 /// One cutting test (`experiments:`) against a diagram.
 struct ExperimentCheck {
-  io::Experiment experiment;
+  job::Experiment experiment;
   /// The diagram's limit at the test's speed (interpolated_limit_m); nullopt
   /// when the speed is outside the computed range (then nothing else is set).
   std::optional<double> limit_m;
@@ -86,7 +86,7 @@ struct ExperimentComparison {
 
 /// Every test against `limits`; `modes` (optional) gives the natural
 /// frequency of an envelope's governing mode.
-ExperimentComparison compare_experiments(const std::vector<io::Experiment>& experiments,
+ExperimentComparison compare_experiments(const std::vector<job::Experiment>& experiments,
                                          const std::vector<StabilityLimit>& limits,
                                          const dynamics::ModalModel* modes);
 
@@ -135,9 +135,9 @@ struct DiscretizationCheck {
 };
 
 struct StabilityDiagram {
-  io::StabilitySettings::Method method = io::StabilitySettings::Method::fdm;
+  job::StabilitySettings::Method method = job::StabilitySettings::Method::fdm;
   /// Which diagrams were asked for (stability.modes).
-  io::StabilitySettings::Modes diagrams = io::StabilitySettings::Modes::coupled;
+  job::StabilitySettings::Modes diagrams = job::StabilitySettings::Modes::coupled;
   std::vector<double> speeds_rad_s;  ///< the computed spindle speeds, ascending
   /// The structure's modes (table, fit, robot or posture library); nullopt
   /// when the measured FRFs are used directly (dynamics.use: frf).
@@ -161,7 +161,7 @@ struct StabilityDiagram {
   /// The diagram the job asked for first: the coupled one, or the envelope
   /// for modes: envelope.
   const std::vector<StabilityLimit>& primary() const noexcept {
-    return diagrams == io::StabilitySettings::Modes::envelope ? envelope : coupled;
+    return diagrams == job::StabilitySettings::Modes::envelope ? envelope : coupled;
   }
 };
 
@@ -171,6 +171,6 @@ struct StabilityDiagram {
 /// (energy-balance damping with a time-domain method, a map by ZOA, 000's
 /// deformation variants with an envelope or a map, fitted modes too fast for
 /// the discretization).
-StabilityDiagram stability_diagram(const io::Job& job, int threads = 0);
+StabilityDiagram stability_diagram(const job::Job& job, int threads = 0);
 
 }  // namespace robomill::analysis

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "robomill/io/csv.hpp"
-#include "robomill/io/job.hpp"
+#include "robomill/job/job.hpp"
 
 namespace robomill::commands {
 
@@ -50,14 +50,14 @@ using Progress = std::function<void(const std::string& stage, double fraction)>;
 /// files (report::render_html); a report that cannot be rendered is a
 /// warning on stderr, never a lost result. Without a new report, an earlier
 /// run's report.html in `out` is removed (it would describe other results).
-void write_result(const std::filesystem::path& out, const io::OutputSettings& output,
+void write_result(const std::filesystem::path& out, const job::OutputSettings& output,
                   const CommandResult& result, bool report = false);
 
 /// Adds the job's key inputs (report/key_inputs.hpp) to a result as the
 /// document "inputs" (inputs.json; the report's inputs table).
-void add_key_inputs(CommandResult& result, const io::Job& job);
+void add_key_inputs(CommandResult& result, const job::Job& job);
 
 /// The sections a job has, in `robomill validate`'s order and names.
-std::vector<std::string> job_sections(const io::Job& job);
+std::vector<std::string> job_sections(const job::Job& job);
 
 }  // namespace robomill::commands

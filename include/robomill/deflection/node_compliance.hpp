@@ -52,7 +52,7 @@ Eigen::MatrixXd robot_node_compliance(const robot::RobotModel& robot, const Eige
 
 /// The same with x and y taken from `frame` (columns x, y, z in the robot's
 /// base frame) instead of the tool frame: a cut whose feed is not the tool
-/// frame's x (a program's sample, toolpath/robot_along_path.hpp). The nodes
+/// frame's x (a program's sample, robot_path/robot_along_path.hpp). The nodes
 /// stay on the tool axis, z_k above the tip.
 Eigen::MatrixXd robot_node_compliance(const robot::RobotModel& robot, const Eigen::VectorXd& q,
                                       const std::vector<double>& node_heights_m,

@@ -1,6 +1,6 @@
 #pragma once
 // The deflection compensation of `robomill toolpath JOB --optimize` written
-// into a KUKA KRL program (issue 19 item 5; toolpath/deflection_compensation.hpp
+// into a KUKA KRL program (issue 19 item 5; robot_path/deflection_compensation.hpp
 // chooses the corrections). A KRL program keeps its points where its moves
 // name them — inline in the .src (`LIN {X 45,Y 20,Z 17}`) or declared in the
 // .dat (`DECL E6POS P1={…}`, array elements run by FOR loops) — and the KRL
@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "robomill/io/program_writer.hpp"
-#include "robomill/toolpath/deflection_compensation.hpp"
+#include "robomill/robot_path/deflection_compensation.hpp"
 #include "robomill/toolpath/program.hpp"
 
 namespace robomill::io {
@@ -28,7 +28,7 @@ namespace robomill::io {
 /// (…_REL), a point written without all of X, Y, Z, a point used more than
 /// once (a FOR loop over one point, a home pose the program starts and ends
 /// at).
-toolpath::WritableMoves krl_writable_moves(const toolpath::Program& program);
+robot_path::WritableMoves krl_writable_moves(const toolpath::Program& program);
 
 struct KrlPointEdits {
   std::string src, dat;
@@ -44,7 +44,7 @@ struct KrlPointEdits {
 /// Skipped: a point whose X, Y or Z is an expression.
 KrlPointEdits write_krl_point_edits(std::string_view src, std::string_view dat,
                                     const toolpath::Program& program,
-                                    const std::vector<toolpath::LineCorrection>& corrections,
+                                    const std::vector<robot_path::LineCorrection>& corrections,
                                     const std::vector<std::string>& comments);
 
 }  // namespace robomill::io

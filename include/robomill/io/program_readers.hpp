@@ -24,6 +24,13 @@
 
 namespace robomill::io {
 
+/// The dialects robomill reads and writes.
+enum class ProgramFormat { gcode, apt, krl };
+
+/// The length unit of an APT program's lengths before its first UNITS record
+/// (NX writes none); unset: the first feed's unit, else mm.
+enum class AptLengthUnit { unset, mm, inch };
+
 /// Options every reader shares.
 struct ProgramReadOptions {
   /// The program's name in messages (the file name as the job wrote it).
@@ -95,17 +102,5 @@ struct KrlOptions : ProgramReadOptions {
   std::size_t max_executed_statements = 1'000'000;
 };
 toolpath::Program read_krl(std::string_view text, const KrlOptions& options);
-
-}  // namespace robomill::io
-
-namespace robomill::io {
-
-struct ToolpathSettings;
-
-/// The job's program (`toolpath.file`, its `.dat` for KRL) read in its
-/// dialect and placed in the workpiece frame (`toolpath.origin`,
-/// `toolpath.orientation`). A file larger than `toolpath.max_size`, missing
-/// or unreadable is an InputError naming `toolpath.file` and its line in the job.
-toolpath::Program read_program(const ToolpathSettings& settings);
 
 }  // namespace robomill::io

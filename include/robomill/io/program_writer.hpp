@@ -12,7 +12,7 @@
 
 #include <Eigen/Core>
 
-#include "robomill/io/job.hpp"
+#include "robomill/io/program_readers.hpp"
 #include "robomill/toolpath/program.hpp"
 
 namespace robomill::io {
@@ -42,7 +42,7 @@ struct FeedEdit {
 /// inserted for it must go before: the line itself, or in APT the first line
 /// of the record it continues (a '$' continuation, or a GOTO's further points
 /// on lines of their own). Feed edits are made per statement start.
-std::vector<int> statement_starts(std::string_view text, ToolpathSettings::Format format);
+std::vector<int> statement_starts(std::string_view text, ProgramFormat format);
 
 /// The changes plus the restores that keep every other line at its
 /// programmed feed: `changed` holds one edit per changed program line (scale
@@ -57,7 +57,7 @@ std::vector<FeedEdit> with_feed_restores(const toolpath::Program& program,
 /// programs set no spindle speed (the cell's PLC does): InputError naming
 /// `toolpath.format`. Comments lose characters the dialect cannot hold
 /// (parentheses in G-code).
-std::string write_spindle_edits(std::string_view text, ToolpathSettings::Format format,
+std::string write_spindle_edits(std::string_view text, ProgramFormat format,
                                 std::vector<SpindleEdit> edits);
 
 /// Both kinds of change in one pass. Feeds:
@@ -72,7 +72,7 @@ std::string write_spindle_edits(std::string_view text, ToolpathSettings::Format 
 /// Throws InputError (field `toolpath.file`, the program line) where a feed
 /// cannot be rescaled as written: a G-code F written as an expression, no
 /// feed word in force before the line.
-std::string write_program_edits(std::string_view text, ToolpathSettings::Format format,
+std::string write_program_edits(std::string_view text, ProgramFormat format,
                                 std::vector<SpindleEdit> spindles, std::vector<FeedEdit> feeds);
 
 /// A move's programmed end point moved by `offset_m` (the program's own
@@ -134,8 +134,8 @@ struct PointEditResult {
 ///    the .src or the .dat writes them, by io::write_krl_point_edits.
 /// `apt_units` is the job's toolpath.units: an APT program's lengths before
 /// its first UNITS record are in the unit read_apt read them in.
-PointEditResult write_point_edits(
-    std::string_view text, ToolpathSettings::Format format, std::vector<PointEdit> edits,
-    ToolpathSettings::Units apt_units = ToolpathSettings::Units::unset);
+PointEditResult write_point_edits(std::string_view text, ProgramFormat format,
+                                  std::vector<PointEdit> edits,
+                                  AptLengthUnit apt_units = AptLengthUnit::unset);
 
 }  // namespace robomill::io

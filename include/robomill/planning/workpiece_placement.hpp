@@ -69,6 +69,10 @@ std::vector<PathPoint> polyline_path(const std::vector<Eigen::Vector3d>& vertice
 /// R_w(θp): workpiece frame → table (cell-parallel) frame.
 Eigen::Matrix3d fixture_rotation(TiltAxis axis, double theta_rad);
 
+/// 004 Eq 7 as a frame: workpiece frame → cell frame, p_m = p_c + p_w + R_w(θp) p_n
+/// with p_w = [xp, yp, z_w]ᵀ. Its linear part is R_w, its translation p_c + p_w.
+Eigen::Isometry3d workpiece_to_cell(const Workcell& cell, const WorkpiecePose& pose);
+
 /// One placed path point: tool-tip position and tool frame in the cell frame.
 struct PlacedPoint {
   Eigen::Vector3d position_m = Eigen::Vector3d::Zero();        ///< p_mi

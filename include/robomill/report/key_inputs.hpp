@@ -5,12 +5,12 @@
 
 #include <string>
 
-#include "robomill/io/job.hpp"
+#include "robomill/job/job.hpp"
 
 namespace robomill::report {
 
 /// JSON text: {"job": path, "name": ..., "inputs": [{"group", "name",
 /// "value"}...]} with every value a display string ("855 N/mm²").
-std::string key_inputs_json(const io::Job& job);
+std::string key_inputs_json(const job::Job& job);
 
 }  // namespace robomill::report

@@ -1,0 +1,16 @@
+#pragma once
+// Private to the job parser: the `recording:`, `recordings:` and `listen:`
+// sections of `robomill listen` (docs/monitoring.md).
+
+#include "robomill/job/job.hpp"
+#include "yaml_reader.hpp"
+
+namespace robomill::job::detail {
+
+/// Reads `recording`, `recordings` and `listen` from the job's top level into
+/// `job` (after tool, process and advise). Files are opened by the command,
+/// not here, so `robomill validate` stays fast. Throws InputError naming the
+/// field and line.
+void read_monitoring(SectionReader& root, Job& job);
+
+}  // namespace robomill::job::detail
