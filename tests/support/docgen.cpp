@@ -2,13 +2,14 @@
 // staleness checks (ctest).
 //
 //   robomill_docgen job-reference [--output FILE] [--check FILE]
-//       docs/job-reference.md from the job schema (src/io/job_schema_table.cpp).
+//       docs/job-reference.md from the job schema (src/job/job_schema_table.cpp).
 //   robomill_docgen validation-report --records LOG [--output FILE] [--check FILE]
 //       docs/validation-report.md from the records the validation tests
 //       appended to LOG (tests/support/validation_record.hpp).
 //   robomill_docgen theory --check docs/theory.md --source SOURCE_DIR
-//       every function docs/theory.md's equation map names exists in the
-//       file named next to it.
+//       every row of docs/theory.md's equation map (one table per paper,
+//       000-004) is well formed, and every function it names exists in a
+//       file under include/ or src/ named on the same row.
 //
 // --check compares with the committed page and fails with "… is stale; run
 // `make docs`". For the validation report a partial run (`ctest -R …`, so
@@ -29,7 +30,7 @@
 #include <string>
 #include <vector>
 
-#include "robomill/io/job_schema.hpp"
+#include "robomill/job/job_schema.hpp"
 
 namespace {
 
@@ -220,9 +221,12 @@ std::vector<std::string> backquoted(const std::string& cell) {
   return words;
 }
 
-/// docs/theory.md's equation map: every function it names must occur in one
-/// of the files named on the same row (the name after the last "::", as a
-/// whole word).
+/// docs/theory.md's equation map, one table per paper ("### Paper 000" …
+/// "### Paper 004"): every row must have four cells and name at least one
+/// function and one file; every file must lie under include/ or src/ and
+/// exist; every function must occur in one of the files named on the same
+/// row (the name after the last "::", as a whole word). A malformed row, a
+/// row outside a paper's table or a paper without rows fails the check.
 int check_theory(const std::string& page_path, const std::string& source_dir) {
   bool ok = false;
   const std::string page = read_file(page_path, ok);
@@ -233,28 +237,46 @@ int check_theory(const std::string& page_path, const std::string& source_dir) {
   }
   const auto end = page.find("\n## ", begin + 1);
   std::istringstream lines(page.substr(begin, end - begin));
-  std::string line;
+  std::string line, paper;
+  std::map<std::string, int> rows_of = {{"000", 0}, {"001", 0}, {"002", 0}, {"003", 0}, {"004", 0}};
   int rows = 0, names = 0, missing = 0;
   while (std::getline(lines, line)) {
-    if (line.rfind("| ", 0) != 0 || line.rfind("| equation", 0) == 0)
+    if (line.rfind("### Paper ", 0) == 0) {
+      paper = line.substr(10);
       continue;
+    }
+    if (line.rfind("|", 0) != 0 || line.rfind("| equation", 0) == 0 ||
+        line.find_first_not_of("|-: ") == std::string::npos)
+      continue;  // not a table row, a header or a separator
     std::vector<std::string> cells;
     std::size_t at = 1;
     for (std::size_t bar; (bar = line.find(" |", at)) != std::string::npos; at = bar + 2)
       cells.push_back(line.substr(at, bar - at));
-    if (cells.size() != 4)
+    const std::vector<std::string> files =
+        cells.size() == 4 ? backquoted(cells[3]) : std::vector<std::string>();
+    const std::vector<std::string> functions =
+        cells.size() == 4 ? backquoted(cells[2]) : std::vector<std::string>();
+    if (line.rfind("| ", 0) != 0 || cells.size() != 4 || at != line.size() || files.empty() ||
+        functions.empty() || rows_of.count(paper) == 0) {
+      std::cerr << page_path << ": not a row of a paper's table (four cells: equation, what it "
+                << "is, `function`s, `file`s): " << line << "\n";
+      ++missing;
       continue;
+    }
     ++rows;
+    ++rows_of[paper];
     std::string sources;
-    for (const std::string& file : backquoted(cells[3])) {
+    for (const std::string& file : files) {
       bool read = false;
-      sources += read_file(source_dir + "/" + file, read);
+      if (file.rfind("include/", 0) == 0 || file.rfind("src/", 0) == 0)
+        sources += read_file(source_dir + "/" + file, read);
       if (!read) {
-        std::cerr << page_path << ": '" << file << "' does not exist\n";
+        std::cerr << page_path << ": '" << file
+                  << "' is not a file under include/ or src/; update the equation map\n";
         ++missing;
       }
     }
-    for (const std::string& name : backquoted(cells[2])) {
+    for (const std::string& name : functions) {
       ++names;
       const std::string word =
           name.substr(name.rfind(':') == std::string::npos ? 0 : name.rfind(':') + 1);
@@ -276,10 +298,16 @@ int check_theory(const std::string& page_path, const std::string& source_dir) {
       }
     }
   }
+  for (const auto& [number, count] : rows_of)
+    if (count == 0) {
+      std::cerr << page_path << ": no rows for paper " << number << " (\"### Paper " << number
+                << "\")\n";
+      ++missing;
+    }
   if (missing > 0 || rows == 0)
     return 1;
   std::cout << page_path << ": " << names << " functions on " << rows
-            << " rows of the equation map, all found\n";
+            << " rows of the equation map (papers 000-004), all found\n";
   return 0;
 }
 
@@ -296,7 +324,7 @@ int usage() {
 }
 
 int job_reference(const Arguments& args) {
-  const std::string page = robomill::io::schema::markdown();
+  const std::string page = robomill::job::schema::markdown();
   if (!args.output.empty() && !write_file(args.output, page)) {
     std::cerr << "cannot write " << args.output << "\n";
     return 1;
@@ -308,7 +336,7 @@ int job_reference(const Arguments& args) {
     const std::string committed = read_file(args.check, ok);
     if (!ok || committed != page)
       return stale("docs/job-reference.md", committed, page);
-    std::cout << "docs/job-reference.md is up to date (" << robomill::io::schema::fields().size()
+    std::cout << "docs/job-reference.md is up to date (" << robomill::job::schema::fields().size()
               << " fields)\n";
   }
   return 0;
