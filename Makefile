@@ -68,57 +68,36 @@ sanitize-build: setup
 	cmake --build $(ASAN_BUILD) -j$(JOBS)
 
 # The tests, built with AddressSanitizer + UndefinedBehaviorSanitizer.
-# SANITIZE_SKIP names the few tests that repeat, on dense grids, code paths the
-# other tests already run under the sanitizers (boundary search, Floquet
-# methods, the 004 optimum, the two-tooth zero-order comparison, process damping
-# in the time domain at 4300 steps per tooth, the surface's dense Z-maps, the program analysis's
-# round pocket corners at 0.1 mm dexels, whose engagement code the slot, side-cut and helix tests
-# run under ASan too; the simulate-vs-stability grids, 80 simulations and Floquet solves whose
-# code the chatter-verdict and unstable-cut tests run under ASan): under ASan they
-# took 15 of a 2-core CI run's 28 minutes. Also cli.toolpath (618 s under ASan,
-# 52 s in release): its readers, writers, program analysis and --optimize run
-# under ASan in the unit tests, cli.toolpath_arcs (the compensation, feeds and
-# the G-code writer) and cli.toolpath_krl (the KRL frames, ψ(s) and compensation).
-# They still run in the release pass.
-SANITIZE_SKIP ?= ^(BoundarySearch\.NoUnstableDepthBelowTheLimitInADenseMap|BoundarySearch\.ContinuationFindsTheSameLimits|Floquet\.TimeInvariantCouplingReproducesTheTurningLimit|Floquet\.MethodsConvergeToTheSameBoundary|Paper004\.OptimumIsAtLeastAsGoodAsThePapersAndSeedsAgree|ZeroOrderVersusFdm\.TwoToothSlotWithItsMeanCouplingIsTheZeroOrderDiagram|BenchmarkChatter\.ProcessDampingStabilizesAsTheFdmBoundaryPredicts|SurfaceZMap\.HeightBudgetOnlySavesWork|SurfaceZMap\.VibrationLockedToTheSpindlePrintsLikeTheKinematicSurface|Paper001Surface\..*|ProgramAnalysis\.PocketCornerEngagementMatchesTheClosedForm|SimulateVsStability\.(OneDofBenchmarkGrid|TwoModeRobotGrid)|cli\.toolpath)$$
+# SANITIZE_SKIP names the tests that repeat, on dense grids or whole example
+# programs, code paths the other tests already run under the sanitizers; they
+# all still run in the release pass. Unit tests: boundary search, Floquet
+# methods, the 004 optimum, the two-tooth zero-order comparison, process
+# damping in the time domain at 4300 steps per tooth, the surface's dense
+# Z-maps, the round pocket corners at 0.1 mm dexels (whose engagement code the
+# slot, side-cut and helix tests run under ASan), the simulate-vs-stability
+# grids (80 simulations and Floquet solves whose code the chatter-verdict and
+# unstable-cut tests run). Command-line tests (tests/cli/*.sh) that run whole
+# example jobs: under ASan they took 770 of the pass's 1 320 test-seconds
+# (cli.toolpath_krl 211 s, cli.toolpath_arcs 198 s, cli.deformation 84 s,
+# cli.optimize 76 s, ...), against 2-20 s each in release. What they run is
+# the library, which the unit tests exercise under ASan (readers, writers,
+# KRL frames and point edits, the program analysis, the robot along the
+# program, --optimize's choices and the compensation: tests/toolpath,
+# tests/robot_path, tests/io); the command-line tests that stay under ASan are
+# the ones about the command layer itself (bad jobs and --set, exit codes,
+# the report, listen, the program readers' vendor files) and the cheap ones.
+SANITIZE_SKIP ?= ^(BoundarySearch\.NoUnstableDepthBelowTheLimitInADenseMap|BoundarySearch\.ContinuationFindsTheSameLimits|Floquet\.TimeInvariantCouplingReproducesTheTurningLimit|Floquet\.MethodsConvergeToTheSameBoundary|Paper004\.OptimumIsAtLeastAsGoodAsThePapersAndSeedsAgree|ZeroOrderVersusFdm\.TwoToothSlotWithItsMeanCouplingIsTheZeroOrderDiagram|BenchmarkChatter\.ProcessDampingStabilizesAsTheFdmBoundaryPredicts|SurfaceZMap\.HeightBudgetOnlySavesWork|SurfaceZMap\.VibrationLockedToTheSpindlePrintsLikeTheKinematicSurface|Paper001Surface\..*|ProgramAnalysis\.PocketCornerEngagementMatchesTheClosedForm|SimulateVsStability\.(OneDofBenchmarkGrid|TwoModeRobotGrid)|cli\.(toolpath|toolpath_krl|toolpath_arcs|toolpath_bull|deformation|optimize|atlas|advise|surface|stability|forces_demo))$$
 test-sanitize: sanitize-build
 	cd $(ASAN_BUILD) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
 	  ctest --output-on-failure -j$(JOBS) -E '$(SANITIZE_SKIP)'
 
 # libFuzzer on the job parser, the FRF readers, the program readers (G-code,
 # APT CL, KRL) and the recording readers (WAV/FLAC, MAT, CSV, UFF58 time),
-# seeded from fuzz/corpus*; any crash fails.
+# seeded from fuzz/corpus*; any crash fails. One fuzzer per core at a time
+# (scripts/fuzz.sh).
 fuzz: sanitize-build
-	mkdir -p $(ASAN_BUILD)/corpus-run $(ASAN_BUILD)/corpus-frf-run
-	@echo "fuzz: job parser for $(FUZZ_SECONDS) s (log: $(ASAN_BUILD)/fuzz.log)"
-	@./$(ASAN_BUILD)/fuzz/fuzz_job_parser -dict=fuzz/job.dict -max_total_time=$(FUZZ_SECONDS) \
-	  -timeout=10 -print_final_stats=1 -artifact_prefix=$(ASAN_BUILD)/ \
-	  $(ASAN_BUILD)/corpus-run fuzz/corpus > $(ASAN_BUILD)/fuzz.log 2>&1 \
-	  || { tail -40 $(ASAN_BUILD)/fuzz.log; echo "fuzz: FAILED (crash, leak or hang; reproducer in $(ASAN_BUILD)/)"; exit 1; }
-	@grep -E '^(Done|stat::number_of_executed_units|stat::peak_rss_mb)' $(ASAN_BUILD)/fuzz.log
-	@echo "fuzz: FRF readers for $(FUZZ_FRF_SECONDS) s (log: $(ASAN_BUILD)/fuzz-frf.log)"
-	@./$(ASAN_BUILD)/fuzz/fuzz_frf_readers -dict=fuzz/frf.dict -max_total_time=$(FUZZ_FRF_SECONDS) \
-	  -timeout=10 -print_final_stats=1 -artifact_prefix=$(ASAN_BUILD)/ \
-	  $(ASAN_BUILD)/corpus-frf-run fuzz/corpus-frf > $(ASAN_BUILD)/fuzz-frf.log 2>&1 \
-	  || { tail -40 $(ASAN_BUILD)/fuzz-frf.log; echo "fuzz: FAILED (crash, leak or hang; reproducer in $(ASAN_BUILD)/)"; exit 1; }
-	@grep -E '^(Done|stat::number_of_executed_units|stat::peak_rss_mb)' $(ASAN_BUILD)/fuzz-frf.log
-	@for reader in gcode apt krl; do \
-	  echo "fuzz: $$reader reader for $(FUZZ_PROGRAM_SECONDS) s (log: $(ASAN_BUILD)/fuzz-$$reader.log)"; \
-	  mkdir -p $(ASAN_BUILD)/corpus-$$reader-run; \
-	  ./$(ASAN_BUILD)/fuzz/fuzz_$${reader}_reader -dict=fuzz/$$reader.dict -max_total_time=$(FUZZ_PROGRAM_SECONDS) \
-	    -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix=$(ASAN_BUILD)/ \
-	    $(ASAN_BUILD)/corpus-$$reader-run fuzz/corpus-$$reader > $(ASAN_BUILD)/fuzz-$$reader.log 2>&1 \
-	    || { tail -40 $(ASAN_BUILD)/fuzz-$$reader.log; echo "fuzz: FAILED (crash, leak or hang; reproducer in $(ASAN_BUILD)/)"; exit 1; }; \
-	  grep -E '^(Done|stat::number_of_executed_units|stat::peak_rss_mb)' $(ASAN_BUILD)/fuzz-$$reader.log; \
-	done
-	@echo "fuzz: recording readers for $(FUZZ_RECORDING_SECONDS) s (log: $(ASAN_BUILD)/fuzz-recording.log)"
-	@mkdir -p $(ASAN_BUILD)/corpus-recording-run
-	@LSAN_OPTIONS=suppressions=fuzz/lsan-recording.supp \
-	  ./$(ASAN_BUILD)/fuzz/fuzz_recording_readers -max_total_time=$(FUZZ_RECORDING_SECONDS) \
-	  -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix=$(ASAN_BUILD)/ \
-	  $(ASAN_BUILD)/corpus-recording-run fuzz/corpus-recording > $(ASAN_BUILD)/fuzz-recording.log 2>&1 \
-	  || { tail -40 $(ASAN_BUILD)/fuzz-recording.log; echo "fuzz: FAILED (crash, leak or hang; reproducer in $(ASAN_BUILD)/)"; exit 1; }
-	@grep -E '^(Done|stat::number_of_executed_units|stat::peak_rss_mb)' $(ASAN_BUILD)/fuzz-recording.log
+	bash scripts/fuzz.sh $(ASAN_BUILD) $(FUZZ_SECONDS) $(FUZZ_FRF_SECONDS) $(FUZZ_PROGRAM_SECONDS) \
+	  $(FUZZ_RECORDING_SECONDS) $(JOBS)
 
 bench: build
 	for b in $(BUILD)/bench/bench_*; do $$b --benchmark_min_time=0.2; done
