@@ -65,7 +65,7 @@ mask() {  # file -> masked text on stdout
          -e 's#(<td>[a-z_.]*job_hash</td><td>)[^<]*#\1MASKED#g' \
          -e 's#(<td>[a-z_.]*(elapsed_s|advice_s|optimization_s|grid_points_per_s)</td><td>)[^<]*#\1MASKED#g' \
          -e "s#$work/(before|after)#OUT#g" \
-         -e 's/ in [0-9.]+ s\b/ in (time) s/g' -e 's/[0-9.]+ items\/s/(rate) items\/s/g' "$1"
+         -e 's/ in [0-9.]+ s\b/ in (time) s/g' -e 's/[0-9]+\.[0-9]+ s;/(time) s;/g' -e 's/[0-9.]+ items\/s/(rate) items\/s/g' "$1"
 }
 
 status=0

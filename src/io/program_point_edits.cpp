@@ -270,7 +270,7 @@ void write_gcode_vias(std::string_view body, const std::vector<GcodeWord>& words
   std::string feed;
   for (const GcodeWord& w : words)
     if (w.letter == 'F')
-      feed = " " + std::string(body.substr(w.begin, w.end - w.begin));
+      feed = fmt::format(" {}", body.substr(w.begin, w.end - w.begin));
   const std::size_t count = edit.points.size();
   for (std::size_t k = 0; k < count; ++k) {
     const PointEdit::Via& via = edit.points[k];
@@ -278,7 +278,8 @@ void write_gcode_vias(std::string_view body, const std::vector<GcodeWord>& words
     for (int a = 0; a < 3; ++a) {
       const double value =
           programmed[a] + via.u * (line_programmed[a] - programmed[a]) + via.offset_m[a] / unit;
-      block += std::string(" ") + kAxes[a] + coordinate(value, inch);
+      block.append(" ").push_back(kAxes[a]);
+      block += coordinate(value, inch);
       written[a] = std::stod(coordinate(value, inch));
     }
     before += block + (k == 0 ? feed : std::string()) +
@@ -439,9 +440,8 @@ std::optional<Eigen::Matrix3d> apt_frame(const Lines& lines, std::size_t l,
        !record.empty() && record.back() == '$' && next < lines.body.size(); ++next) {
     record.pop_back();
     const std::size_t more = lines.body[next].find("$$");
-    record += "," + std::string(trimmed(more == std::string_view::npos
-                                            ? lines.body[next]
-                                            : lines.body[next].substr(0, more)));
+    record.append(",").append(trimmed(
+        more == std::string_view::npos ? lines.body[next] : lines.body[next].substr(0, more)));
   }
   std::vector<double> numbers;
   bool all_numbers = true;
@@ -551,7 +551,10 @@ void write_apt_points(std::string_view text, const Lines& lines,
   bool inch = apt_leading_unit(text, job_units) == AptOptions::Unit::inch, cycle = false;
   // The MSYS/CSYS frame in force: coordinates p map to the part as A p + t,
   // so an offset in the part frame is A⁻¹ offset in the record's numbers.
-  std::optional<Eigen::Matrix3d> to_frame = Eigen::Matrix3d::Identity();
+  // (A matrix and a flag rather than std::optional<Matrix3d>: GCC 12 at -O3
+  // reads the optional's payload as maybe-uninitialized.)
+  Eigen::Matrix3d to_frame = Eigen::Matrix3d::Identity();
+  bool frame_known = true;
   std::optional<Eigen::Vector3d> last_point;  // the last GOTO's x, y, z as written
   bool last_record_was_goto = false;
   std::optional<std::vector<AptNumber>> pending_circle, circle;
@@ -568,7 +571,10 @@ void write_apt_points(std::string_view text, const Lines& lines,
                  ? true
                  : (upper.find("MM") != std::string::npos ? false : inch);
     if (starts_with_word(upper, "MSYS") || starts_with_word(upper, "CSYS")) {
-      to_frame = apt_frame(lines, l, upper);
+      const std::optional<Eigen::Matrix3d> frame = apt_frame(lines, l, upper);
+      frame_known = frame.has_value();
+      if (frame)
+        to_frame = *frame;
     }
     if (starts_with_word(upper, "CYCLE"))
       cycle = upper.find("OFF") == std::string::npos;
@@ -602,7 +608,7 @@ void write_apt_points(std::string_view text, const Lines& lines,
     if (edit == edits.end())
       continue;
     std::string reason;
-    if (!to_frame)
+    if (!frame_known)
       reason = "the MSYS/CSYS frame in force is not one robomill reads";
     else if (cycle)
       reason = "the point runs in a CYCLE";
@@ -627,13 +633,13 @@ void write_apt_points(std::string_view text, const Lines& lines,
     const Eigen::Vector3d end = *last_point;
     std::string inserted = "$$ " + edit->second->comment + "\n";
     for (const PointEdit::Via& via : edit->second->points) {
-      const Eigen::Vector3d p = *start + via.u * (end - *start) + *to_frame * via.offset_m / unit;
+      const Eigen::Vector3d p = *start + via.u * (end - *start) + to_frame * via.offset_m / unit;
       inserted += fmt::format("GOTO/{},{},{}\n", coordinate(p.x(), inch), coordinate(p.y(), inch),
                               coordinate(p.z(), inch));
     }
     std::string line;
     std::size_t copied = 0;
-    const Eigen::Vector3d offset = *to_frame * edit->second->offset_m / unit;
+    const Eigen::Vector3d offset = to_frame * edit->second->offset_m / unit;
     for (int k = 0; k < 3; ++k) {
       line.append(body.substr(copied, spans[k].first - copied));
       line += coordinate(values[k] + offset[k], inch);
@@ -643,7 +649,7 @@ void write_apt_points(std::string_view text, const Lines& lines,
     out[l] = std::move(line);
     before[static_cast<std::size_t>(record)] += inserted;
     if (edit->second->arc) {  // the CIRCLE's centre and radius, last span first
-      const Eigen::Vector3d centre = *to_frame * edit->second->arc->centre_offset_m / unit;
+      const Eigen::Vector3d centre = to_frame * edit->second->arc->centre_offset_m / unit;
       for (int k : {6, 2, 1, 0}) {
         const AptNumber& n = (*circle)[static_cast<std::size_t>(k)];
         const double value =
