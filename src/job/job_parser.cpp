@@ -145,7 +145,7 @@ void check_single_document(const std::string& text, const std::string& source) {
   if (second.pos == first.pos) {
     const std::size_t pos = static_cast<std::size_t>(std::max(0, second.pos));
     const std::string found =
-        pos < text.size() ? "'" + std::string(1, text[pos]) + "'" : "end of input";
+        pos < text.size() ? fmt::format("'{}'", text[pos]) : std::string("end of input");
     throw InputError(source, line, "YAML syntax error: unexpected " + found);
   }
   throw InputError(source, line, "a second YAML document starts here; a job is a single document");
