@@ -12,7 +12,9 @@ runs a command. apps/ and python/ sit after every module.
 prints every include against the order (file, line, what it includes, why it
 may not) and exits 1 if there is one; a folder under src/ or
 include/robomill/ that is not in MODULES is an error too, so a new module must
-be given its place. `make test` runs it (ctest: layering.includes), and
+be given its place. A command's source (src/commands/) includes only core,
+io, job, analysis, report and commands: its numbers come from an analysis.
+`make test` runs it (ctest: layering.includes), and
 layering.detects_a_wrong_include checks that it catches a planted one.
 """
 import os
@@ -44,6 +46,11 @@ MODULES = [
     ("commands", "each command: compute, then write"),
 ]
 RANK = {name: i for i, (name, _) in enumerate(MODULES)}
+
+# A command computes nothing itself: its numbers come from one typed analysis
+# (analysis/), and the numerical types it formats reach it through that
+# analysis's header. So a command's source may include only these modules.
+COMMAND_MAY_INCLUDE = ("core", "io", "job", "analysis", "report", "commands")
 INCLUDE = re.compile(r'^\s*#\s*include\s*[<"]robomill/([A-Za-z0-9_]+)/([^>"]+)[>"]')
 
 
@@ -89,6 +96,13 @@ def check(root):
                                 f"{rel}:{number}: {module} includes robomill/{target}/"
                                 f"{found.group(2)}, but {target} ({MODULES[RANK[target]][1]}) "
                                 f"comes after {module} in the pipeline")
+                        elif (module == "commands" and top == "src"
+                              and target not in COMMAND_MAY_INCLUDE):
+                            problems.append(
+                                f"{rel}:{number}: the command includes robomill/{target}/"
+                                f"{found.group(2)}: a command formats what its analysis "
+                                f"(robomill/analysis/) returns and includes only "
+                                f"{', '.join(COMMAND_MAY_INCLUDE)}")
     return problems
 
 

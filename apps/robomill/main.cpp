@@ -249,7 +249,7 @@ void add_frf_command(CLI::App& app, Commands& c) {
   frf->add_option("--points", frf_options.points, "frequencies of a log grid (default 5000)");
   frf->add_option("--kind", frf_options.kind, "receptance (default), mobility or accelerance");
   frf->add_option("--format", frf_options.format, "uff58 (ASCII, default), uff58b (binary) or csv");
-  frf->add_option("--noise", frf_options.noise,
+  frf->add_option("--noise", frf_options.noise_relative,
                   "relative complex noise, e.g. 0.02 for 2 % of |H| (default 0)");
   frf->add_option("--seed", frf_options.seed, "seed of the noise (default 1)");
 }

@@ -270,9 +270,12 @@ def listen(job, threads: int = 0, out: Optional[PathLike] = None) -> dict:
 def analyze_signal(samples, sample_rate_hz: float, spindle_rpm: float, teeth: int = 1,
                    full_scale: float = 0.0, ignore_hz=(), threshold: float = 0.5) -> dict:
     """The ``listen`` detector on samples in memory (a 1-D NumPy array, any
-    unit): "verdict" ("stable", "chatter" or "unknown"), "reason",
-    "chatter_freq_hz", "spindle_rpm_measured", "chatter_energy_fraction",
-    "onset_s", "recommended_spindle_rpm", and the spectra as arrays: "freq_hz",
+    unit): the keys of a recording in listen's summary.json — "verdict"
+    ("stable", "chatter" or "unknown"), "reason", "chatter_freq_hz" (None
+    unless the verdict is chatter; the strongest line no harmonic explains is
+    "strongest_nonharmonic_hz"), "spindle_rpm_measured",
+    "chatter_energy_fraction", "onset_s", "recommended_spindle_rpm" (within
+    0.5-1.5 x ``spindle_rpm``), ... — and the spectra as arrays: "freq_hz",
     "psd", "cause", "spectrogram_t_s", "spectrogram_freq_hz",
     "spectrogram_psd" (frames x frequencies). ``full_scale`` > 0 enables the
     clipping check."""

@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <limits>
 #include <memory>
+#include <numbers>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -19,6 +20,7 @@
 #include <variant>
 #include <vector>
 
+#include "robomill/analysis/recording_verdicts.hpp"
 #include "robomill/atlas/store.hpp"
 #include "robomill/commands/command_result.hpp"
 #include "robomill/commands/commands.hpp"
@@ -294,7 +296,9 @@ void register_toolpath_and_listen(py::module_& m) {
     return robomill::commands::compute_listen(job, threads);
   });
   // The detector on samples already in memory (a NumPy array): the same
-  // analysis `listen` runs on a file, spectra back as arrays.
+  // analysis `listen` runs on a file, its keys as listen's summary.json
+  // writes a recording (commands::listen_recording_json), spectra back as
+  // arrays.
   m.def(
       "analyze_signal",
       [](const py::array_t<double, py::array::c_style | py::array::forcecast>& samples,
@@ -309,13 +313,23 @@ void register_toolpath_and_listen(py::module_& m) {
         options.chatter_energy_threshold = threshold;
         for (double f : ignore_hz)
           options.ignore.push_back({f, 0.0});
-        robomill::monitoring::RecordingAnalysis a;
+        // A recording without a file, a depth or a diagram (no "depth_mm",
+        // no "model"); the advice within half to one and a half times the
+        // commanded speed.
+        robomill::analysis::RecordingVerdict verdict;
+        verdict.teeth = teeth;
+        verdict.commanded_spindle_rad_s = options.commanded_spindle_hz * 2.0 * std::numbers::pi;
         {
           py::gil_scoped_release release;
           robomill::monitoring::VectorSource source(
               std::move(copy), sample_rate_hz, robomill::monitoring::SignalKind::sound, full_scale);
-          a = robomill::monitoring::analyze_recording(source, options);
+          robomill::analysis::judge_signal(source, options, 0.5 * options.commanded_spindle_hz,
+                                           1.5 * options.commanded_spindle_hz, verdict);
         }
+        const robomill::monitoring::RecordingAnalysis& a = verdict.analysis;
+        // listen's keys through summary.json's text, as the commands' summaries.
+        py::dict d(py::module_::import("json").attr("loads")(
+            robomill::io::summary_text(robomill::commands::listen_recording_json(verdict))));
         const auto array = [](const std::vector<double>& v) {
           py::array_t<double> out(static_cast<py::ssize_t>(v.size()));
           std::copy(v.begin(), v.end(), out.mutable_data());
@@ -328,31 +342,12 @@ void register_toolpath_and_listen(py::module_& m) {
             {static_cast<py::ssize_t>(a.spectrogram_time_s.size()),
              static_cast<py::ssize_t>(a.spectrogram_frequency_hz.size())});
         std::copy(a.spectrogram_psd.begin(), a.spectrogram_psd.end(), spectrogram.mutable_data());
-        py::dict d;
-        d["verdict"] = robomill::monitoring::verdict_name(a.verdict);
-        d["reason"] = a.reason;
-        d["chatter_freq_hz"] = a.chatter_hz;
-        d["spindle_rpm_measured"] = a.spindle_hz_measured * 60.0;
-        d["spindle_refined"] = a.spindle_refined;
-        d["tooth_freq_hz"] = a.tooth_hz;
-        d["chatter_energy_fraction"] = a.chatter_energy_fraction;
-        d["forced_energy_fraction"] = a.forced_energy_fraction;
-        d["ignored_energy_fraction"] = a.ignored_energy_fraction;
-        d["onset_s"] = a.onset_s ? py::object(py::float_(*a.onset_s)) : py::object(py::none());
-        d["duration_s"] = a.duration_s;
         d["freq_hz"] = array(a.frequency_hz);
         d["psd"] = array(a.psd);
         d["cause"] = causes;
         d["spectrogram_t_s"] = array(a.spectrogram_time_s);
         d["spectrogram_freq_hz"] = array(a.spectrogram_frequency_hz);
         d["spectrogram_psd"] = spectrogram;
-        py::list recommended;
-        if (a.verdict == robomill::monitoring::Verdict::chatter && a.chatter_hz > 0.0)
-          for (const auto& s : robomill::monitoring::suggest_spindle_speeds(
-                   a.chatter_hz, teeth, 0.5 * options.commanded_spindle_hz,
-                   1.5 * options.commanded_spindle_hz))
-            recommended.append(s.spindle_hz * 60.0);
-        d["recommended_spindle_rpm"] = recommended;
         return d;
       },
       py::arg("samples"), py::arg("sample_rate_hz"), py::arg("spindle_rpm"), py::arg("teeth") = 1,
@@ -400,7 +395,7 @@ void register_model_commands(py::module_& m) {
         options.points = points;
         options.kind = kind;
         options.format = format;
-        options.noise = noise;
+        options.noise_relative = noise;
         options.seed = seed;
         return run([&] { return robomill::commands::compute_frf(job, options); }, out, job.output,
                    &job);

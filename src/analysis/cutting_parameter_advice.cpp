@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "robomill/analysis/structure.hpp"
+#include "robomill/core/constants.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/robot/joint_dynamics.hpp"
 #include "robomill/robot/kinematics.hpp"
@@ -16,8 +17,6 @@
 
 namespace robomill::analysis {
 namespace {
-
-constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 
 Eigen::VectorXd seed_posture(const job::Job& job, const robot::RobotModel& robot) {
   if (job.robot->posture_rad.empty())
@@ -64,7 +63,8 @@ std::vector<dynamics::ModalModel> path_stations(const job::Job& job,
 }
 
 /// Floquet methods step in time: two steps per period of the highest mode.
-void check_discretization(const job::Job& job, const std::vector<dynamics::ModalModel>& stations) {
+void check_advise_discretization(const job::Job& job,
+                                 const std::vector<dynamics::ModalModel>& stations) {
   const job::AdviseSettings& s = *job.advise;
   if (s.limit.method == planning::LimitMethod::zoa)
     return;
@@ -108,7 +108,7 @@ CuttingParameterAdvice cutting_parameter_advice(const job::Job& job, int threads
   } catch (const std::invalid_argument& error) {
     throw InputError(settings.along_path ? "advise.along" : "dynamics", 0, error.what());
   }
-  check_discretization(job, stations);
+  check_advise_discretization(job, stations);
 
   const tool::Tool cutter(*job.tool);
   planning::AdviceOptions advice_options;

@@ -16,8 +16,8 @@ namespace {
 
 // The whole file, refused before reading when larger than `max_bytes` (a
 // 100 MB file is far beyond a real program; the guard keeps memory bounded).
-std::string read_text(const std::filesystem::path& file, std::size_t max_bytes,
-                      const std::string& field, int line) {
+std::string read_capped_text(const std::filesystem::path& file, std::size_t max_bytes,
+                             const std::string& field, int line) {
   std::error_code error;
   const auto size = std::filesystem::file_size(file, error);
   if (error || !std::filesystem::is_regular_file(file, error))
@@ -40,7 +40,7 @@ std::string read_text(const std::filesystem::path& file, std::size_t max_bytes,
 
 toolpath::Program read_program(const job::ToolpathSettings& settings) {
   const std::string text =
-      read_text(settings.file, settings.max_bytes, "toolpath.file", settings.file_line);
+      read_capped_text(settings.file, settings.max_bytes, "toolpath.file", settings.file_line);
   const std::string name = settings.file.filename().string();
   toolpath::Program program;
   switch (settings.format) {
@@ -79,7 +79,7 @@ toolpath::Program read_program(const job::ToolpathSettings& settings) {
           dat = upper;
       }
       if (std::filesystem::exists(dat, error)) {
-        options.dat_text = read_text(dat, settings.max_bytes, "toolpath.dat", settings.line);
+        options.dat_text = read_capped_text(dat, settings.max_bytes, "toolpath.dat", settings.line);
         options.dat_name = dat.filename().string();
       }
       program = io::read_krl(text, options);

@@ -14,10 +14,10 @@
 #include <iterator>
 #include <map>
 #include <memory>
-#include <numbers>
 #include <set>
 
 #include "robomill/analysis/program_run.hpp"
+#include "robomill/core/constants.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/io/krl_frame_turn.hpp"
 #include "robomill/io/krl_point_edits.hpp"
@@ -26,9 +26,6 @@
 
 namespace robomill::analysis {
 namespace {
-
-constexpr double kDegPerRad = 180.0 / std::numbers::pi;
-constexpr double kRpmPerRadS = 60.0 / (2.0 * std::numbers::pi);
 
 std::string program_extension(const job::ToolpathSettings& settings) {
   const std::string extension = settings.file.extension().string();
@@ -516,7 +513,7 @@ Percentiles percentiles(std::vector<double> values) {
 
 namespace {
 
-std::string read_text(const std::filesystem::path& file) {
+std::string read_whole_file(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
@@ -871,8 +868,8 @@ ProgramImprovement improve_program(const job::Job& job, const toolpath::Program&
   robot_path::RobotPathSettings after_settings = setup.settings;
   RedundancyDecision& psi = out.redundancy;
   const bool krl = settings.format == job::ToolpathSettings::Format::krl;
-  const std::string text = read_text(settings.file);
-  const std::string dat_text = krl ? read_text(settings.dat_file) : std::string();
+  const std::string text = read_whole_file(settings.file);
+  const std::string dat_text = krl ? read_whole_file(settings.dat_file) : std::string();
   choose_redundancy(job, program, before, text, dat_text, threads, recorded, after_settings, psi);
   out.redundancy_changed = after_settings.redundancy_rad != setup.settings.redundancy_rad ||
                            after_settings.frame_turn_rad != setup.settings.frame_turn_rad ||

@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -14,6 +15,7 @@
 #include "robomill/core/error.hpp"
 #include "robomill/io/csv.hpp"
 #include "robomill/io/program_readers.hpp"
+#include "robomill/robot/kinematics.hpp"
 
 namespace robomill::analysis {
 
@@ -139,6 +141,28 @@ toolpath::ProgramAnalysisSettings program_analysis_settings(const job::ToolpathS
   analysis.threads = threads;
   analysis.source_name = std::move(source_name);
   return analysis;
+}
+
+double expected_samples(const job::Job& job, const ProgramRun& run) {
+  const double spacing_m =
+      job.toolpath->spacing_m > 0.0 ? job.toolpath->spacing_m : 0.5 * job.stock->resolution_m;
+  double reach_m = 0.0;
+  for (const auto& [number, tool] : *run.tooling)
+    reach_m = std::max(reach_m, toolpath::cutter_reach_m(toolpath::cutter_shape(tool)));
+  const toolpath::StockBox box{job.stock->min_m, job.stock->max_m};
+  double path_length_m = 0.0;
+  for (const toolpath::Move& move : run.program.moves) {
+    const toolpath::MoveStretch near = toolpath::move_near_box(move, box, reach_m);
+    if (!near.empty())
+      path_length_m +=
+          toolpath::path_length_m(move) * (std::min(1.0, near.to_u) - std::max(0.0, near.from_u));
+  }
+  return path_length_m / std::max(spacing_m, 1e-6) +
+         2.0 * static_cast<double>(run.program.moves.size());
+}
+
+RobotDrawing robot_drawing(const robot_path::RobotAlongPath& along, const Eigen::VectorXd& q_rad) {
+  return {along.joint_origins(q_rad), robot::tool_pose(along.model(), q_rad)};
 }
 
 ProgramRun run_program(const job::Job& job, const ProgramRunOptions& options) {

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include "robomill/analysis/process_damping.hpp"
 #include "robomill/analysis/structure.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/planning/workpiece_placement.hpp"
@@ -66,16 +67,7 @@ void set_stability(const job::Job& job, RobotPathSetup& setup) {
     const job::StabilitySettings& s = *job.stability;
     setup.stability.depth_max_m = s.depth_max_m;
     setup.stability.envelope = s.modes == job::StabilitySettings::Modes::envelope;
-    if (s.process_damping != job::StabilitySettings::Damping::none) {
-      stability::ProcessDamping damping;
-      damping.model = s.process_damping == job::StabilitySettings::Damping::energy_balance
-                          ? stability::ProcessDampingModel::energy_balance
-                          : stability::ProcessDampingModel::linear_equivalent;
-      damping.indentation_n_per_m3 = s.indentation_n_per_m3;
-      damping.wear_land_m = s.wear_land_m;
-      damping.friction = s.friction;
-      setup.stability.process_damping = damping;
-    }
+    setup.stability.process_damping = process_damping(s);
     if (s.method != job::StabilitySettings::Method::zoa)
       setup.notes.emplace_back(
           "stability.method is for single cuts; along the program every sample's limit is the "

@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "robomill/analysis/deformation.hpp"
+#include "robomill/analysis/process_damping.hpp"
 #include "robomill/analysis/structure.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/deflection/deformed_engagement.hpp"
@@ -40,21 +41,6 @@ Bifurcation bifurcation_from(const std::string& name) {
   if (name == "fold")
     return Bifurcation::fold;
   return Bifurcation::none;
-}
-
-/// The zero-order method's process damping (003 §3.1 energy balance or 000
-/// Eq 18-19 linear equivalent); none when the job gives none.
-std::optional<stability::ProcessDamping> process_damping(const Settings& settings) {
-  if (settings.process_damping == Settings::Damping::none)
-    return std::nullopt;
-  stability::ProcessDamping damping;
-  damping.model = settings.process_damping == Settings::Damping::energy_balance
-                      ? stability::ProcessDampingModel::energy_balance
-                      : stability::ProcessDampingModel::linear_equivalent;
-  damping.indentation_n_per_m3 = settings.indentation_n_per_m3;
-  damping.wear_land_m = settings.wear_land_m;
-  damping.friction = settings.friction;
-  return damping;
 }
 
 std::vector<StabilityLimit> zero_order_diagram(const stability::RegenerativeModel& model,
@@ -134,7 +120,7 @@ std::vector<StabilityLimit> measured_frf_diagram(const job::Job& job,
 
 /// The parser checks the time step against the modal table; fitted modes are
 /// known only now: two steps per period of the highest one.
-void check_discretization(const job::Job& job, const dynamics::ModalModel& modes) {
+void check_stability_discretization(const job::Job& job, const dynamics::ModalModel& modes) {
   const Settings& settings = *job.stability;
   if (settings.method == Settings::Method::zoa)
     return;
@@ -322,7 +308,7 @@ StabilityDiagram stability_diagram(const job::Job& job, int threads) {
   if (!measured) {
     modes = analysis::structure_modes(job);
     if (job.dynamics_source != job::Job::DynamicsSource::table)
-      check_discretization(job, *modes);
+      check_stability_discretization(job, *modes);
   }
   stability::LobeOptions lobe_options;
   lobe_options.method = floquet_method(settings.method);

@@ -13,6 +13,7 @@
 #include <numbers>
 
 #include "robomill/analysis/structure.hpp"
+#include "robomill/core/constants.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/cutting/milling_forces.hpp"
 #include "robomill/simulation/simulator.hpp"
@@ -21,7 +22,6 @@
 namespace robomill::analysis {
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 constexpr double kDegree = std::numbers::pi / 180.0;
 
 int line_or(int line, int fallback) {

@@ -17,14 +17,13 @@
 
 #include "robomill/analysis/cutting_parameter_advice.hpp"
 #include "robomill/commands/commands.hpp"
+#include "robomill/core/constants.hpp"
 #include "robomill/io/csv.hpp"
 #include "robomill/io/summary.hpp"
 
 namespace robomill::commands {
 namespace {
 
-constexpr double kRpmPerRadS = 60.0 / (2.0 * std::numbers::pi);
-constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 constexpr double kCm3PerMinPerM3PerS = 1e6 * 60.0;
 
 nlohmann::json speed_json(const planning::SpeedAdvice& a, const job::Job& job) {
@@ -138,8 +137,8 @@ nlohmann::json point_redundancy_json(const planning::PointRedundancy& p, std::si
 }
 
 // advice.json's redundancy: the study per point and the best constant angle.
-nlohmann::json redundancy_json(const job::AdviseSettings& settings,
-                               const planning::RedundancyStudy& study) {
+nlohmann::json redundancy_study_json(const job::AdviseSettings& settings,
+                                     const planning::RedundancyStudy& study) {
   nlohmann::json per_point = nlohmann::json::array();
   for (std::size_t i = 0; i < study.points.size(); ++i)
     per_point.push_back(point_redundancy_json(study.points[i], i));
@@ -246,7 +245,7 @@ CommandResult compute_advise(const job::Job& job, int threads) {
   std::optional<io::CsvTable> redundancy_table;
   if (study) {
     redundancy_table.emplace(redundancy_csv(*study, robot->dof()));
-    document["redundancy"] = redundancy_json(settings, *study);
+    document["redundancy"] = redundancy_study_json(settings, *study);
     if (study->best_constant >= 0) {
       const double angle = settings.redundancy->angles_rad[std::size_t(study->best_constant)];
       summary["redundancy_angle_deg"] = angle * kDegPerRad;

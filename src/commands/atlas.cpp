@@ -11,22 +11,16 @@
 #include <condition_variable>
 #include <fstream>
 #include <mutex>
-#include <numbers>
 #include <sstream>
 #include <thread>
 
 #include "robomill/commands/commands.hpp"
+#include "robomill/core/constants.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/core/parallel.hpp"
 #include "robomill/io/csv.hpp"
 
 namespace robomill::commands {
-namespace {
-
-constexpr double kDegPerRad = 180.0 / std::numbers::pi;
-constexpr double kRpmPerRadS = 60.0 / (2.0 * std::numbers::pi);
-
-}  // namespace
 
 atlas::AtlasContext atlas_context(const job::Job& job, const robot::RobotModel& model) {
   std::optional<tool::Tool> tool;

@@ -9,19 +9,14 @@
 #include <cmath>
 #include <iostream>
 #include <nlohmann/json.hpp>
-#include <numbers>
 
 #include "robomill/analysis/deflection_sweep.hpp"
 #include "robomill/commands/commands.hpp"
+#include "robomill/core/constants.hpp"
 #include "robomill/io/csv.hpp"
 #include "robomill/io/summary.hpp"
 
 namespace robomill::commands {
-namespace {
-
-constexpr double kDegPerRad = 180.0 / std::numbers::pi;
-
-}  // namespace
 
 CommandResult compute_deflection(job::Job job, int threads) {
   const analysis::DeflectionSweep sweep = analysis::deflection_sweep(job, threads);

@@ -1,18 +1,17 @@
 // robomill fit-modes JOB: modal parameters from the job's measured FRFs
 // (dynamics.frf), band by band (dynamics.fit), for the stability and
-// simulation engines or for a modal table to paste into a job.
+// simulation engines or for a modal table to paste into a job. The fit is
+// analysis::measured_frf_fit's; this file writes it as modes.csv,
+// frf_fit.csv, stabilization.csv, modes.yaml and summary.json.
 
 #include <fmt/format.h>
 
-#include <algorithm>
-#include <chrono>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <numbers>
 
-#include "robomill/analysis/structure.hpp"
+#include "robomill/analysis/measured_frf_fit.hpp"
 #include "robomill/commands/commands.hpp"
-#include "robomill/core/error.hpp"
 #include "robomill/io/csv.hpp"
 #include "robomill/io/summary.hpp"
 
@@ -38,13 +37,8 @@ nlohmann::json mode_json(const dynamics::FittedMode& m) {
 }  // namespace
 
 CommandResult compute_fit_modes(const job::Job& job) {
-  if (job.frf_files.empty())
-    throw InputError("dynamics.frf", 0, "fit-modes needs measured FRF files (dynamics.frf)");
-  const auto start = std::chrono::steady_clock::now();
-  const std::vector<dynamics::Frf> measured = analysis::load_measured_frfs(job);
-  const analysis::StructureFit structure = analysis::fit_structure(job, measured);
-  const double elapsed_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const analysis::MeasuredFrfFit run = analysis::measured_frf_fit(job);
+  const analysis::StructureFit& structure = run.structure;
 
   // DESIGN.md's public columns first: direction,fn_hz,zeta,k_N_per_m.
   io::CsvTable modes_table({"direction", "fn_hz", "zeta", "k_N_per_m", "m_kg", "frf", "mode",
@@ -60,7 +54,6 @@ CommandResult compute_fit_modes(const job::Job& job) {
       "modes:\n";
   nlohmann::json fits = nlohmann::json::array();
   nlohmann::json all_modes = nlohmann::json::array();
-  double worst_error = 0.0;
   for (std::size_t f = 0; f < structure.fits.size(); ++f) {
     const dynamics::Frf& frf = structure.measured[f];
     const dynamics::ModalFit& fit = structure.fits[f];
@@ -89,7 +82,7 @@ CommandResult compute_fit_modes(const job::Job& job) {
       rejected.push_back(mode_json(m));
     // The fit drops a 0 Hz point; the grids then align from the top.
     const dynamics::Frf& fitted = fit.fitted.front();
-    const std::size_t offset = frf.frequency_hz.size() - fitted.frequency_hz.size();
+    const std::size_t offset = run.first_fitted_point[f];
     for (std::size_t i = 0; i < fitted.frequency_hz.size(); ++i) {
       const std::complex<double> h = frf.value[i + offset], h_fit = fitted.value[i];
       fit_table.add_cells(
@@ -103,7 +96,6 @@ CommandResult compute_fit_modes(const job::Job& job) {
     nlohmann::json bands = nlohmann::json::array();
     for (const dynamics::FitBand& b : fit.bands_used)
       bands.push_back({{"from_hz", b.low_hz}, {"to_hz", b.high_hz}, {"max_order", b.max_order}});
-    worst_error = std::max(worst_error, fit.overall_error);
     fits.push_back({{"frf", name},
                     {"kind", dynamics::kind_name(frf.kind)},
                     {"points", frf.frequency_hz.size()},
@@ -115,11 +107,11 @@ CommandResult compute_fit_modes(const job::Job& job) {
 
   nlohmann::json summary = {{"command", "fit-modes"},
                             {"job", job.source.string()},
-                            {"elapsed_s", elapsed_s},
-                            {"frfs_read", measured.size()},
+                            {"elapsed_s", run.elapsed_s},
+                            {"frfs_read", run.frfs_read},
                             {"frfs_fitted", structure.fits.size()},
                             {"modes", all_modes},
-                            {"fit_error", worst_error},
+                            {"fit_error", run.worst_fit_error},
                             {"fits", fits}};
   CommandResult result;
   result.tables.emplace_back("modes", std::move(modes_table));
@@ -130,7 +122,7 @@ CommandResult compute_fit_modes(const job::Job& job) {
 
   std::string& message = result.message;
   message = fmt::format("fit-modes: {} FRF(s) fitted in {:.2f} s, {} modes\n",
-                        structure.fits.size(), elapsed_s, structure.modes.size());
+                        structure.fits.size(), run.elapsed_s, structure.modes.size());
   for (std::size_t f = 0; f < structure.fits.size(); ++f) {
     message += fmt::format("  H{}: error {:.2g} %\n", direction_name(structure.measured[f]),
                            100.0 * structure.fits[f].overall_error);

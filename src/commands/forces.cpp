@@ -1,20 +1,19 @@
 // robomill forces JOB: the rigid-tool milling force history (DESIGN.md §3).
+// The history is analysis::milling_force_history's; this file writes it as
+// forces.csv and summary.json.
 
 #include <fmt/format.h>
 
-#include <chrono>
 #include <iostream>
-#include <numbers>
 
+#include "robomill/analysis/milling_force_history.hpp"
 #include "robomill/commands/commands.hpp"
-#include "robomill/cutting/milling_forces.hpp"
+#include "robomill/core/constants.hpp"
 #include "robomill/io/csv.hpp"
 #include "robomill/io/summary.hpp"
 
 namespace robomill::commands {
 namespace {
-
-constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 
 io::CsvTable force_table(const cutting::ForceSeries& series) {
   io::CsvTable table({"angle_deg", "t_s", "fx_N", "fy_N", "fz_N", "torque_Nm"});
@@ -26,12 +25,12 @@ io::CsvTable force_table(const cutting::ForceSeries& series) {
   return table;
 }
 
-nlohmann::json law_summary(const job::Job& job, const cutting::MillingForceModel& model) {
+nlohmann::json law_summary(const job::Job& job, const analysis::MillingForceHistory& history) {
   nlohmann::json law = {{"law", std::string(cutting::law_name(*job.cutting))}};
-  if (model.law().is_linear()) {
+  if (history.linear_law) {
     // For the size-dependent law these are the coefficients at this process's
     // mean chip thickness (004 Eq A2-A3).
-    const cutting::LinearLaw& k = model.law().linear();
+    const cutting::LinearLaw& k = *history.linear_law;
     law["Ktc_N_per_mm2"] = k.Ktc_pa * 1e-6;
     law["Krc_N_per_mm2"] = k.Krc_pa * 1e-6;
     law["Kac_N_per_mm2"] = k.Kac_pa * 1e-6;
@@ -45,22 +44,13 @@ nlohmann::json law_summary(const job::Job& job, const cutting::MillingForceModel
 }  // namespace
 
 CommandResult compute_forces(const job::Job& job, int threads) {
-  job::require(job, {job::Section::tool, job::Section::cutting, job::Section::process});
-
-  const auto start = std::chrono::steady_clock::now();
-  const tool::Tool cutter(*job.tool);
-  const int elements = job.forces.axial_elements > 0
-                           ? job.forces.axial_elements
-                           : cutting::default_axial_elements(cutter, job.process->axial_depth_m);
-  const cutting::MillingForceModel model(cutter, *job.cutting, *job.process, elements);
-  const cutting::ForceSampling sampling{job.forces.revolutions, job.forces.steps_per_tooth};
-  const cutting::ForceSeries series = cutting::sample_forces(model, sampling, threads);
-  const cutting::ForceStatistics stats = cutting::summarize(series, job.process->spindle_rad_s);
-  const double elapsed_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const analysis::MillingForceHistory history = analysis::milling_force_history(job, threads);
+  const cutting::ForceSeries& series = history.series;
+  const cutting::ForceStatistics& stats = history.statistics;
+  const cutting::ForceSampling& sampling = history.sampling;
 
   const cutting::MillingProcess& process = *job.process;
-  const double tooth_period_s = model.tooth_period_s();
+  const double tooth_period_s = history.tooth_period_s;
   nlohmann::json summary = {
       {"command", "forces"},
       {"job", job.source.string()},
@@ -75,17 +65,17 @@ CommandResult compute_forces(const job::Job& job, int threads) {
       {"tooth_period_s", tooth_period_s},
       {"tooth_passing_hz", 1.0 / tooth_period_s},
       {"engagement_deg",
-       {{"entry", model.nominal_engagement().entry_rad * kDegPerRad},
-        {"exit", model.nominal_engagement().exit_rad * kDegPerRad}}},
-      {"helix_lag_deg", cutter.lag_angle_rad(process.axial_depth_m) * kDegPerRad},
-      {"mean_chip_thickness_mm", model.mean_chip_m() * 1e3},
-      {"cutting", law_summary(job, model)},
+       {{"entry", history.nominal_engagement.entry_rad * kDegPerRad},
+        {"exit", history.nominal_engagement.exit_rad * kDegPerRad}}},
+      {"helix_lag_deg", history.helix_lag_rad * kDegPerRad},
+      {"mean_chip_thickness_mm", history.mean_chip_m * 1e3},
+      {"cutting", law_summary(job, history)},
       {"direction", std::string(cutting::to_string(process.direction))},
-      {"axial_elements", elements},
+      {"axial_elements", history.axial_elements},
       {"samples", series.size()},
       {"revolutions", sampling.revolutions},
       {"steps_per_tooth", sampling.steps_per_tooth},
-      {"elapsed_s", elapsed_s},
+      {"elapsed_s", history.elapsed_s},
       {"frame", "forces on the tool, tool frame: x feed, z tool axis towards the spindle"},
   };
   if (!job.name.empty())

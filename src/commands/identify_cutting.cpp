@@ -1,17 +1,18 @@
 // robomill identify-cutting DATA.csv: the six linear cutting coefficients from
-// mean forces measured at several feeds per tooth (000 §6.2, 001 §3.2).
+// mean forces measured at several feeds per tooth (000 §6.2, 001 §3.2). The
+// engagement and the fit are analysis::identify_cutting_coefficients's; this
+// file reads the typed options (over the job's setup) and DATA.csv, and writes
+// fit.csv, cutting.yaml and summary.json.
 
 #include <fmt/format.h>
 
 #include <cmath>
 #include <iostream>
-#include <numbers>
 #include <optional>
 
+#include "robomill/analysis/cutting_coefficient_identification.hpp"
 #include "robomill/commands/commands.hpp"
 #include "robomill/core/error.hpp"
-#include "robomill/cutting/coefficient_identification.hpp"
-#include "robomill/cutting/engagement.hpp"
 #include "robomill/io/csv.hpp"
 #include "robomill/io/summary.hpp"
 #include "robomill/job/units.hpp"
@@ -41,26 +42,11 @@ std::optional<double> length_option(const std::string& text, const std::string& 
   return meters;
 }
 
-struct TestSetup {
-  int teeth = 0;
-  std::optional<double> axial_depth_m, radial_depth_m, diameter_m;
-  cutting::MillingDirection direction = cutting::MillingDirection::down;
-};
-
-TestSetup setup_from(const IdentifyCuttingInputs& options) {
-  TestSetup setup;
-  if (!options.job_file.empty()) {
-    const job::Job job = job::load_job(options.job_file);
-    if (job.tool) {
-      setup.teeth = job.tool->teeth;
-      setup.diameter_m = job.tool->diameter_m;
-    }
-    if (job.process) {
-      setup.axial_depth_m = job.process->axial_depth_m;
-      setup.radial_depth_m = job.process->radial_depth_m;
-      setup.direction = job.process->direction;
-    }
-  }
+/// The job's setup (--job), with the typed options over it.
+analysis::CuttingTestSetup setup_from(const IdentifyCuttingInputs& options) {
+  analysis::CuttingTestSetup setup;
+  if (!options.job_file.empty())
+    setup = analysis::cutting_test_setup(job::load_job(options.job_file));
   if (!options.teeth.empty()) {
     try {
       std::size_t used = 0;
@@ -87,24 +73,10 @@ TestSetup setup_from(const IdentifyCuttingInputs& options) {
   return setup;
 }
 
-cutting::Engagement engagement_for(const TestSetup& setup, std::optional<double> radial_depth_m,
-                                   const std::string& where) {
-  if (!radial_depth_m)
-    return {0.0, std::numbers::pi};  // slot
-  if (!setup.diameter_m) {
-    throw InputError(where, 0, "a radial depth needs the tool diameter (--diameter or --job)");
-  }
-  if (*radial_depth_m > *setup.diameter_m * (1.0 + 1e-12)) {
-    throw InputError(where, 0, "radial depth exceeds the tool diameter");
-  }
-  const double radius = 0.5 * *setup.diameter_m;
-  return cutting::radial_engagement(radius, radius, *radial_depth_m, setup.direction);
-}
-
 }  // namespace
 
 CommandResult compute_identify_cutting(const IdentifyCuttingInputs& options) {
-  const TestSetup setup = setup_from(options);
+  const analysis::CuttingTestSetup setup = setup_from(options);
   const io::CsvTable data = io::read_csv(options.data_file);
   const std::string source = options.data_file.string();
   for (const char* column : {"feed_per_tooth_mm", "fx_N", "fy_N", "fz_N"}) {
@@ -119,34 +91,26 @@ CommandResult compute_identify_cutting(const IdentifyCuttingInputs& options) {
   const int ae_col = data.find("ae_mm");
   const double sign = options.measured_on == "workpiece" ? -1.0 : 1.0;
 
-  std::vector<cutting::MeanForceMeasurement> tests;
+  std::vector<analysis::MeasuredCuttingTest> measured;
   for (std::size_t r = 0; r < data.rows(); ++r) {
-    const std::string where = source + " row " + std::to_string(r + 1);
-    cutting::MeanForceMeasurement test;
+    analysis::MeasuredCuttingTest test;
+    test.row = static_cast<int>(r + 1);
     test.feed_per_tooth_m = data.at(r, static_cast<std::size_t>(feed_col)) * 1e-3;
     test.mean_force_n =
         sign * Eigen::Vector3d(data.at(r, static_cast<std::size_t>(data.find("fx_N"))),
                                data.at(r, static_cast<std::size_t>(data.find("fy_N"))),
                                data.at(r, static_cast<std::size_t>(data.find("fz_N"))));
-    test.teeth = setup.teeth;
-    std::optional<double> ap = setup.axial_depth_m;
     if (ap_col >= 0)
-      ap = data.at(r, static_cast<std::size_t>(ap_col)) * 1e-3;
-    if (!ap || !(*ap > 0.0))
-      throw InputError(where, 0, "axial depth missing (ap_mm column, --ap or --job)");
-    test.axial_depth_m = *ap;
-    std::optional<double> ae = setup.radial_depth_m;
+      test.axial_depth_m = data.at(r, static_cast<std::size_t>(ap_col)) * 1e-3;
     if (ae_col >= 0)
-      ae = data.at(r, static_cast<std::size_t>(ae_col)) * 1e-3;
-    if (ae && !(*ae > 0.0))
-      throw InputError(where, 0, "radial depth must be positive");
-    test.engagement = engagement_for(setup, ae, where);
-    tests.push_back(test);
+      test.radial_depth_m = data.at(r, static_cast<std::size_t>(ae_col)) * 1e-3;
+    measured.push_back(test);
   }
-  if (tests.empty())
-    throw InputError(source, 0, "no data rows");
 
-  const cutting::CoefficientFit fit = cutting::identify_linear_coefficients(tests);
+  const analysis::CuttingCoefficientIdentification identification =
+      analysis::identify_cutting_coefficients(setup, measured, source);
+  const std::vector<cutting::MeanForceMeasurement>& tests = identification.tests;
+  const cutting::CoefficientFit& fit = identification.fit;
   const cutting::LinearLaw& k = fit.coefficients;
 
   io::CsvTable table(

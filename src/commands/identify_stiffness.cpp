@@ -19,40 +19,30 @@
 // A target on a joint's axis (the tip of a spindle on the flange axis) does
 // not move when that joint turns: such data cannot identify the joint, and
 // the command says so.
+//
+// The identification and the synthesis are analysis::joint_stiffness_from_tests's
+// and analysis::synthesized_displacements_m's; this file reads DATA.csv against
+// the job's robot and writes fit.csv, joint_stiffness.yaml and summary.json, or
+// loading_tests.csv.
 
 #include <fmt/format.h>
 
 #include <cmath>
 #include <iostream>
 #include <nlohmann/json.hpp>
-#include <numbers>
 #include <optional>
 #include <sstream>
 
+#include "json_helpers.hpp"
+#include "robomill/analysis/joint_stiffness_identification.hpp"
 #include "robomill/commands/commands.hpp"
+#include "robomill/core/constants.hpp"
 #include "robomill/core/error.hpp"
-#include "robomill/core/random.hpp"
 #include "robomill/io/csv.hpp"
 #include "robomill/io/summary.hpp"
-#include "robomill/robot/kinematics.hpp"
-#include "robomill/robot/stiffness.hpp"
-#include "robomill/robot/stiffness_identification.hpp"
 
 namespace robomill::commands {
 namespace {
-
-constexpr double kDegPerRad = 180.0 / std::numbers::pi;
-
-/// One row of the data file, in SI.
-struct LoadingTest {
-  int line = 0;  ///< 1-based line number of the row in the file (header is 1)
-  Eigen::VectorXd q;
-  robot::Vector6d wrench = robot::Vector6d::Zero();  ///< force N, moment N·m
-  bool has_moment = false;
-  Eigen::Vector3d displacement_m = Eigen::Vector3d::Zero();
-  Eigen::Vector3d target_offset_tool_m = Eigen::Vector3d::Zero();
-  Eigen::Vector3d load_offset_tool_m = Eigen::Vector3d::Zero();
-};
 
 /// Columns that must appear together, or not at all.
 std::optional<std::array<int, 3>> column_triple(const io::CsvTable& data,
@@ -76,9 +66,10 @@ std::optional<std::array<int, 3>> column_triple(const io::CsvTable& data,
 
 /// Reads DATA.csv for a robot with `dof` joints; the measured displacement
 /// is optional only when it is about to be synthesized.
-std::vector<LoadingTest> read_loading_tests(const std::filesystem::path& file,
-                                            const robot::RobotModel& model, bool need_displacement,
-                                            std::vector<std::string>& columns_out) {
+std::vector<analysis::LoadingTest> read_loading_tests(const std::filesystem::path& file,
+                                                      const robot::RobotModel& model,
+                                                      bool need_displacement,
+                                                      std::vector<std::string>& columns_out) {
   const io::CsvTable data = io::read_csv(file);
   const std::string source = file.string();
   columns_out = data.columns();
@@ -108,22 +99,22 @@ std::vector<LoadingTest> read_loading_tests(const std::filesystem::path& file,
   if (data.rows() == 0)
     throw InputError(source, 2, "no loading tests (the file has a header only)");
 
-  std::vector<LoadingTest> tests;
+  std::vector<analysis::LoadingTest> tests;
   for (std::size_t row = 0; row < data.rows(); ++row) {
-    LoadingTest t;
+    analysis::LoadingTest t;
     // read_csv skips blank and comment lines, so the row index is the best
     // position we can name: "test N" counts data rows from 1.
-    t.line = static_cast<int>(row) + 1;
-    t.q.resize(dof);
+    t.test = static_cast<int>(row) + 1;
+    t.q_rad.resize(dof);
     for (int j = 0; j < dof; ++j) {
       const double degrees = data.at(row, q_columns[j]);
       const auto& joint = model.joints()[static_cast<std::size_t>(j)];
-      t.q[j] = degrees / kDegPerRad;
-      if (t.q[j] < joint.lower_rad - 1e-12 || t.q[j] > joint.upper_rad + 1e-12) {
+      t.q_rad[j] = degrees / kDegPerRad;
+      if (t.q_rad[j] < joint.lower_rad - 1e-12 || t.q_rad[j] > joint.upper_rad + 1e-12) {
         throw InputError(source, 0,
                          fmt::format("test {}: q{}_deg = {:g} is outside joint {}'s range [{:g}, "
                                      "{:g}] deg (angles are in degrees)",
-                                     t.line, j + 1, degrees, j + 1, joint.lower_rad * kDegPerRad,
+                                     t.test, j + 1, degrees, j + 1, joint.lower_rad * kDegPerRad,
                                      joint.upper_rad * kDegPerRad));
       }
     }
@@ -141,17 +132,18 @@ std::vector<LoadingTest> read_loading_tests(const std::filesystem::path& file,
     t.has_moment = moment.has_value();
     if (t.wrench.isZero(0.0))
       throw InputError(source, 0,
-                       fmt::format("test {}: no load (force and moment are zero)", t.line));
+                       fmt::format("test {}: no load (force and moment are zero)", t.test));
     tests.push_back(std::move(t));
   }
   return tests;
 }
 
-/// --synthesize: 000 Eq 3 forward with the job's Kq, plus Gaussian noise of
-/// `relative` times each test's displacement magnitude on every component
-/// (the "1 % displacement noise" of a laser tracker).
-io::CsvTable synthesize(const robot::RobotModel& model, const std::vector<LoadingTest>& tests,
-                        double relative, std::uint32_t seed, bool with_moment) {
+/// loading_tests.csv: the tests with the displacements synthesized for them
+/// (analysis::synthesized_displacements_m), in the data file's units.
+io::CsvTable synthesized_tests(const robot::RobotModel& model,
+                               const std::vector<analysis::LoadingTest>& tests,
+                               const std::vector<Eigen::Vector3d>& displacements_m,
+                               bool with_moment) {
   std::vector<std::string> columns;
   for (int j = 0; j < model.dof(); ++j)
     columns.push_back(fmt::format("q{}_deg", j + 1));
@@ -165,17 +157,12 @@ io::CsvTable synthesize(const robot::RobotModel& model, const std::vector<Loadin
                         "load_z_mm", "dx_mm", "dy_mm", "dz_mm"})
     columns.push_back(c);
   io::CsvTable table(columns);
-  core::StandardNormal normal(seed);
-  for (const LoadingTest& t : tests) {
-    Eigen::Vector3d d = robot::deflection_between(model, t.q, t.target_offset_tool_m,
-                                                  t.load_offset_tool_m, t.wrench)
-                            .head<3>();
-    const double sigma = relative * d.norm();
-    for (int k = 0; k < 3; ++k)
-      d[k] += sigma * normal();
+  for (std::size_t i = 0; i < tests.size(); ++i) {
+    const analysis::LoadingTest& t = tests[i];
+    const Eigen::Vector3d& d = displacements_m[i];
     std::vector<double> row;
     for (int j = 0; j < model.dof(); ++j)
-      row.push_back(t.q[j] * kDegPerRad);
+      row.push_back(t.q_rad[j] * kDegPerRad);
     for (int k = 0; k < (with_moment ? 6 : 3); ++k)
       row.push_back(t.wrench[k]);
     for (int k = 0; k < 3; ++k)
@@ -189,21 +176,13 @@ io::CsvTable synthesize(const robot::RobotModel& model, const std::vector<Loadin
   return table;
 }
 
-nlohmann::json vector_json(const Eigen::VectorXd& v) {
-  nlohmann::json values = nlohmann::json::array();
-  for (Eigen::Index i = 0; i < v.size(); ++i)
-    values.push_back(v[i]);
-  return values;
-}
-
 }  // namespace
 
 CommandResult compute_identify_stiffness(const job::Job& job,
                                          const IdentifyStiffnessSettings& options) {
-  job::require(job, {job::Section::robot});
-  const robot::RobotModel model(job.robot->description);
+  const robot::RobotModel model = analysis::loading_test_robot(job);
   std::vector<std::string> columns;
-  const std::vector<LoadingTest> tests =
+  const std::vector<analysis::LoadingTest> tests =
       read_loading_tests(options.data_file, model, !options.synthesize, columns);
 
   if (options.synthesize) {
@@ -212,48 +191,26 @@ CommandResult compute_identify_stiffness(const job::Job& job,
     const bool with_moment = std::find(columns.begin(), columns.end(), "mx_Nm") != columns.end();
     CommandResult result;
     result.tables.emplace_back("loading_tests",
-                               synthesize(model, tests, options.noise, options.seed, with_moment));
+                               synthesized_tests(model, tests,
+                                                 analysis::synthesized_displacements_m(
+                                                     model, tests, options.noise, options.seed),
+                                                 with_moment));
     result.message =
         fmt::format("synthesized {} loading tests on {} (job Kq, {:g} % noise, seed {})",
                     tests.size(), model.name(), 100.0 * options.noise, options.seed);
     return result;
   }
 
-  // 000 Eq 3 per test: Jc the measured point's Jacobian (the tool tip),
-  // Je the loaded point's; displacements are positions only.
-  std::vector<robot::StiffnessSample> samples;
-  samples.reserve(tests.size());
-  for (const LoadingTest& t : tests) {
-    robot::StiffnessSample s;
-    s.jacobian = robot::point_jacobian(model, t.q, t.target_offset_tool_m);
-    if (t.load_offset_tool_m != t.target_offset_tool_m)
-      s.force_jacobian = robot::point_jacobian(model, t.q, t.load_offset_tool_m);
-    s.load = t.has_moment ? Eigen::VectorXd(t.wrench) : Eigen::VectorXd(t.wrench.head<3>());
-    s.displacement_m = t.displacement_m;
-    samples.push_back(std::move(s));
-  }
-  robot::StiffnessIdentificationOptions identification_options;
-  identification_options.max_condition_number = options.max_condition;
-  robot::StiffnessIdentification id;
-  try {
-    id = robot::identify_joint_stiffness(samples, identification_options);
-  } catch (const std::invalid_argument& error) {
-    // An ill-posed data set is a property of the input file.
-    throw InputError(options.data_file.string(), 0, error.what());
-  }
-
-  const Eigen::VectorXd prior = model.joint_stiffness();
+  const analysis::JointStiffnessIdentification identification =
+      analysis::joint_stiffness_from_tests(model, tests, options.max_condition, options.data_file);
+  const robot::StiffnessIdentification& id = identification.fit;
+  const Eigen::VectorXd& prior = identification.job_stiffness_nm_per_rad;
   io::CsvTable fit({"test", "dx_mm", "dy_mm", "dz_mm", "model_dx_mm", "model_dy_mm", "model_dz_mm",
                     "residual_um"});
   for (std::size_t i = 0; i < tests.size(); ++i) {
-    const LoadingTest& t = tests[i];
-    // Model displacement with the identified Kq: Jc diag(c) Jeᵀ w.
-    const Eigen::MatrixXd& je =
-        samples[i].force_jacobian.size() ? samples[i].force_jacobian : samples[i].jacobian;
-    const Eigen::VectorXd tau = je.topRows(samples[i].load.size()).transpose() * samples[i].load;
-    const Eigen::Vector3d model_m =
-        samples[i].jacobian.topRows<3>() * id.compliance_rad_per_nm.cwiseProduct(tau);
-    fit.add_row({static_cast<double>(t.line), t.displacement_m.x() * 1e3,
+    const analysis::LoadingTest& t = tests[i];
+    const Eigen::Vector3d& model_m = identification.model_displacement_m[i];
+    fit.add_row({static_cast<double>(t.test), t.displacement_m.x() * 1e3,
                  t.displacement_m.y() * 1e3, t.displacement_m.z() * 1e3, model_m.x() * 1e3,
                  model_m.y() * 1e3, model_m.z() * 1e3, id.residual_norm_m[i] * 1e6});
   }
@@ -276,8 +233,8 @@ CommandResult compute_identify_stiffness(const job::Job& job,
       {"tests", tests.size()},
       {"equations", id.equations},
       {"degrees_of_freedom", id.degrees_of_freedom},
-      {"joint_stiffness_Nm_per_rad", vector_json(id.stiffness_nm_per_rad)},
-      {"standard_error_Nm_per_rad", vector_json(id.stiffness_standard_error_nm_per_rad)},
+      {"joint_stiffness_Nm_per_rad", detail::vector_json(id.stiffness_nm_per_rad)},
+      {"standard_error_Nm_per_rad", detail::vector_json(id.stiffness_standard_error_nm_per_rad)},
       {"joints", joints},
       {"condition_number", id.condition_number},
       {"rms_residual_um", id.rms_residual_m * 1e6},

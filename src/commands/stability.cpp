@@ -12,13 +12,13 @@
 
 #include "robomill/analysis/stability_diagram.hpp"
 #include "robomill/commands/commands.hpp"
+#include "robomill/core/constants.hpp"
 #include "robomill/io/csv.hpp"
 #include "robomill/io/summary.hpp"
 
 namespace robomill::commands {
 namespace {
 
-constexpr double kRpmPerRadS = 60.0 / (2.0 * std::numbers::pi);
 using Settings = job::StabilitySettings;
 using analysis::StabilityLimit;
 

@@ -10,31 +10,23 @@
 #include <iostream>
 #include <map>
 #include <memory>
-#include <numbers>
 #include <optional>
 #include <set>
 
 #include "robomill/analysis/program_run.hpp"
 #include "robomill/analysis/robot_path_setup.hpp"
 #include "robomill/commands/commands.hpp"
+#include "robomill/core/constants.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/io/csv.hpp"
 #include "robomill/io/output_bundle.hpp"
 #include "robomill/io/program_readers.hpp"
 #include "robomill/io/program_writer.hpp"
 #include "robomill/io/summary.hpp"
-#include "robomill/robot/kinematics.hpp"
-#include "robomill/robot_path/deflection_compensation.hpp"
-#include "robomill/robot_path/feed_schedule.hpp"
-#include "robomill/robot_path/program_optimization.hpp"
-#include "robomill/robot_path/robot_along_path.hpp"
-#include "robomill/toolpath/program_analysis.hpp"
 
 namespace robomill::commands {
 namespace {
 
-constexpr double kDegPerRad = 180.0 / std::numbers::pi;
-constexpr double kRpmPerRadS = 60.0 / (2.0 * std::numbers::pi);
 constexpr std::size_t kPreviewRows = 20000;
 
 const char* motion_name(toolpath::MotionKind kind) {
@@ -270,13 +262,14 @@ nlohmann::json robot_summary(const analysis::RobotPathSetup& setup,
   }
   if (!r.worst_lines.empty()) {
     const robot_path::WorstLine& w = r.worst_lines.front();
+    const analysis::RobotDrawing drawing = analysis::robot_drawing(along, w.q_rad);
     nlohmann::json origins = nlohmann::json::array();
-    for (const Eigen::Vector3d& p : along.joint_origins(w.q_rad))
+    for (const Eigen::Vector3d& p : drawing.joint_origins_m)
       origins.push_back({p.x() * 1e3, p.y() * 1e3, p.z() * 1e3});
     std::vector<double> q_deg;
     for (Eigen::Index j = 0; j < w.q_rad.size(); ++j)
       q_deg.push_back(w.q_rad[j] * kDegPerRad);
-    const Eigen::Isometry3d tool = robot::tool_pose(along.model(), w.q_rad);
+    const Eigen::Isometry3d& tool = drawing.tool_pose;
     const Eigen::Vector3d axis = tool.linear().col(2);
     out["worst_posture"] = {{"line", w.line},
                             {"q_deg", q_deg},
@@ -440,7 +433,7 @@ nlohmann::json single_redundancy_json(const analysis::ProgramImprovement& im) {
 }
 
 // `optimization.redundancy`: null when ψ was not searched.
-nlohmann::json redundancy_json(const analysis::ProgramImprovement& im) {
+nlohmann::json redundancy_decision_json(const analysis::ProgramImprovement& im) {
   using Kind = analysis::RedundancyDecision::Kind;
   switch (im.redundancy.kind) {
     case Kind::program_frames:
@@ -568,7 +561,7 @@ nlohmann::json compensation_json(const analysis::CompensationOutcome& c) {
 nlohmann::json improvement_json(const analysis::ProgramImprovement& im,
                                 const analysis::RobotPathSetup& setup) {
   nlohmann::json out = {{"spindle_choices", spindle_choices_json(im.spindles)},
-                        {"redundancy", redundancy_json(im)}};
+                        {"redundancy", redundancy_decision_json(im)}};
   if (!setup.stability.advice_speeds_rad_s.empty())
     out["speed_range_rpm"] = {setup.stability.advice_speeds_rad_s.front() * kRpmPerRadS,
                               setup.stability.advice_speeds_rad_s.back() * kRpmPerRadS};
@@ -707,27 +700,11 @@ std::string improvement_message(const analysis::ProgramImprovement& im) {
 }
 
 // The stride of the preview's rows: at most kPreviewRows of the samples
-// the program is expected to give. Only the path near the stock is sampled
-// (program_analysis.hpp): the stretches beyond the largest cutter's reach of
-// the box are not.
+// the program is expected to give.
 std::size_t preview_stride_for(const job::Job& job, const analysis::ProgramRun& run) {
-  const double spacing_m =
-      job.toolpath->spacing_m > 0.0 ? job.toolpath->spacing_m : 0.5 * job.stock->resolution_m;
-  double reach_m = 0.0;
-  for (const auto& [number, tool] : *run.tooling)
-    reach_m = std::max(reach_m, toolpath::cutter_reach_m(toolpath::cutter_shape(tool)));
-  const toolpath::StockBox box{job.stock->min_m, job.stock->max_m};
-  double path_length_m = 0.0;
-  for (const toolpath::Move& move : run.program.moves) {
-    const toolpath::MoveStretch near = toolpath::move_near_box(move, box, reach_m);
-    if (!near.empty())
-      path_length_m +=
-          toolpath::path_length_m(move) * (std::min(1.0, near.to_u) - std::max(0.0, near.from_u));
-  }
-  const double expected_samples = path_length_m / std::max(spacing_m, 1e-6) +
-                                  2.0 * static_cast<double>(run.program.moves.size());
+  const double expected = analysis::expected_samples(job, run);
   return static_cast<std::size_t>(
-      std::max(1.0, std::ceil(expected_samples / static_cast<double>(kPreviewRows))));
+      std::max(1.0, std::ceil(expected / static_cast<double>(kPreviewRows))));
 }
 
 // summary.json without the robot's and the optimization's parts.

@@ -3,16 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
 #include <stdexcept>
 #include <string>
 
+#include "robomill/core/constants.hpp"
 #include "robomill/core/error.hpp"
 
 namespace robomill::deflection {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 
 void check(const ContactProblem& p) {
   auto positive = [](double v) { return v > 0.0 && std::isfinite(v); };

@@ -7,10 +7,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <numbers>
 #include <stdexcept>
 #include <string>
 
+#include "robomill/core/constants.hpp"
 #include "robomill/core/error.hpp"
 
 namespace robomill::dynamics {
@@ -18,7 +18,6 @@ namespace {
 
 using cd = std::complex<double>;
 using Eigen::Index;
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 // Poles with ζ ≥ 0.5 are not structural modes of a machine tool or robot;
 // they are what the rational model uses to bend itself around the residual

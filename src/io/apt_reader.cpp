@@ -68,6 +68,7 @@
 #include <vector>
 
 #include "program_text.hpp"
+#include "robomill/core/constants.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/io/program_readers.hpp"
 #include "robomill/toolpath/arc.hpp"
@@ -80,7 +81,6 @@ using Eigen::Vector3d;
 using toolpath::MotionKind;
 using toolpath::Move;
 
-constexpr double kMillimetre = 1e-3;
 constexpr double kInch = 0.0254;
 constexpr double kRpmToRadS = 2.0 * std::numbers::pi / 60.0;
 constexpr std::string_view kUnitsKey = "toolpath.units";  // the job's key for AptOptions::units
@@ -204,7 +204,7 @@ struct Circle {
 };
 
 // A skipped word's first line, its count and why it changes nothing.
-struct Skipped {
+struct SkippedWord {
   std::string word;
   int first_line = 0;
   int count = 0;
@@ -293,7 +293,7 @@ class AptReader {
   std::optional<std::size_t> cutter_waiting_for_load_;  // a CUTTER that precedes its LOADTL
   std::optional<std::size_t> load_waiting_for_cutter_;  // a LOADTL that precedes its CUTTER
   bool stopped_ = false;
-  std::vector<Skipped> skipped_;  // in the order first met
+  std::vector<SkippedWord> skipped_;  // in the order first met
 };
 
 std::vector<Token> AptReader::tokens(const Record& record) const {
@@ -363,7 +363,7 @@ toolpath::Program AptReader::read(std::string_view text) {
     fail(circle_->line,
          "CIRCLE: no GOTO ends the arc; a CIRCLE record must be followed by the "
          "GOTO of the arc's end point");
-  for (const Skipped& s : skipped_)
+  for (const SkippedWord& s : skipped_)
     note(s.first_line, s.word + " (" + std::to_string(s.count) + " record" +
                            (s.count == 1 ? "" : "s") + " from line " +
                            std::to_string(s.first_line) + "): " + std::string(s.why) + "; skipped");
@@ -603,7 +603,7 @@ bool AptReader::skip(const Record& record) {
 }
 
 void AptReader::skipped(const Record& record, std::string_view why) {
-  for (Skipped& s : skipped_)
+  for (SkippedWord& s : skipped_)
     if (s.word == record.word) {
       ++s.count;
       return;

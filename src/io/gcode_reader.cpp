@@ -1259,7 +1259,7 @@ bool Interpreter::execute(const Block& block) {
 }
 
 /// Splits the text into lines at "\n", "\r\n" or a lone "\r".
-std::vector<std::string_view> split_lines(std::string_view text) {
+std::vector<std::string_view> split_at_line_ends(std::string_view text) {
   std::vector<std::string_view> lines;
   std::size_t start = 0;
   for (std::size_t i = 0; i < text.size(); ++i) {
@@ -1293,7 +1293,7 @@ toolpath::Program read_gcode(std::string_view text, const GcodeOptions& options)
                      fmt::format("the program is {} bytes, more than the limit of {} bytes; "
                                  "raise the limit (toolpath max_bytes) if it is really meant",
                                  text.size(), options.max_bytes));
-  const std::vector<std::string_view> lines = split_lines(text);
+  const std::vector<std::string_view> lines = split_at_line_ends(text);
   Interpreter interpreter(options);
   for (std::size_t index = 0; index < lines.size(); ++index) {
     const int number = static_cast<int>(index + 1);

@@ -6,26 +6,20 @@
 #include <array>
 #include <cmath>
 #include <map>
-#include <numbers>
 #include <optional>
 
 #include "krl_aggregates.hpp"
+#include "krl_rotation.hpp"
 #include "program_text.hpp"
+#include "robomill/core/constants.hpp"
 
 namespace robomill::io {
 namespace {
 
 namespace ka = krl_aggregates;
 
-constexpr double kRadPerDeg = std::numbers::pi / 180.0;
-
 // KUKA's A, B, C (deg): R = Rz(A) Ry(B) Rx(C).
-Eigen::Matrix3d rotation_abc(double a_deg, double b_deg, double c_deg) {
-  return (Eigen::AngleAxisd(a_deg * kRadPerDeg, Eigen::Vector3d::UnitZ()) *
-          Eigen::AngleAxisd(b_deg * kRadPerDeg, Eigen::Vector3d::UnitY()) *
-          Eigen::AngleAxisd(c_deg * kRadPerDeg, Eigen::Vector3d::UnitX()))
-      .toRotationMatrix();
-}
+using krl_rotation::rotation_abc;
 
 // Its inverse; at B = ±90° (A and C turn about the same axis) the one with
 // C = 0: Rz(A) Ry(B) has the column Rz(A) e_y = (−sin A, cos A, 0).

@@ -54,7 +54,9 @@
 #include <string_view>
 #include <vector>
 
+#include "krl_rotation.hpp"
 #include "program_text.hpp"
+#include "robomill/core/constants.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/io/program_readers.hpp"
 #include "robomill/toolpath/arc.hpp"
@@ -67,7 +69,6 @@ using Eigen::Vector3d;
 using toolpath::MotionKind;
 using toolpath::Move;
 
-constexpr double kMillimetre = 1e-3;
 constexpr double kDegree = std::numbers::pi / 180.0;
 constexpr long long kIntegerLimit = 1'000'000'000;  // loop bounds and indices beyond are typos
 
@@ -168,12 +169,8 @@ struct Target {
 
 using Frame6 = std::array<double, 6>;  // X Y Z (mm), A B C (deg)
 
-Eigen::Matrix3d rotation_abc(double a_deg, double b_deg, double c_deg) {
-  return (Eigen::AngleAxisd(a_deg * kDegree, Vector3d::UnitZ()) *
-          Eigen::AngleAxisd(b_deg * kDegree, Vector3d::UnitY()) *
-          Eigen::AngleAxisd(c_deg * kDegree, Vector3d::UnitX()))
-      .toRotationMatrix();
-}
+// KUKA's A, B, C (deg): R = Rz(A) Ry(B) Rx(C).
+using krl_rotation::rotation_abc;
 
 Eigen::Isometry3d to_isometry(const Frame6& f) {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();

@@ -132,7 +132,7 @@ struct Lines {
   std::vector<std::string_view> body, end;  // [0] unused; end: the line's own line end
 };
 
-Lines split_lines(std::string_view text) {
+Lines split_lines_keeping_ends(std::string_view text) {
   Lines lines;
   lines.body.emplace_back();
   lines.end.emplace_back();
@@ -671,7 +671,7 @@ PointEditResult write_point_edits(std::string_view text, ProgramFormat format,
   std::map<int, const PointEdit*> by_line;
   for (const PointEdit& edit : edits)
     by_line[edit.line] = &edit;
-  const Lines lines = split_lines(text);
+  const Lines lines = split_lines_keeping_ends(text);
   std::vector<std::string> out(lines.body.size()), before(lines.body.size());
   for (std::size_t l = 1; l < lines.body.size(); ++l)
     out[l] = std::string(lines.body[l]);

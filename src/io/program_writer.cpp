@@ -36,7 +36,7 @@ std::string spindle_statement(const SpindleEdit& edit, Format format, std::strin
 
 // A feed value as the dialects write numbers: six significant digits, never
 // an exponent, no trailing zeros.
-std::string number(double value) {
+std::string feed_number(double value) {
   std::string text =
       value >= 1e-4 && value < 1e6 ? fmt::format("{:.6g}", value) : fmt::format("{:.6f}", value);
   if (text.find('e') == std::string::npos && text.find('.') != std::string::npos) {
@@ -120,7 +120,7 @@ std::string scaled_fedrat(std::string_view record, double scale, int line) {
     const auto [end, error] = std::from_chars(token.data(), token.data() + token.size(), value);
     if (error == std::errc() && end == token.data() + token.size() && !token.empty()) {
       const std::size_t at = record.find(token, start);
-      return std::string(record.substr(0, at)) + number(value * scale) +
+      return std::string(record.substr(0, at)) + feed_number(value * scale) +
              std::string(record.substr(at + token.size()));
     }
     start = stop + 1;
@@ -265,7 +265,7 @@ std::string write_program_edits(std::string_view text, ProgramFormat format,
             feed_missing(line, "its F word is an expression");
           if (own_feed && !restore) {
             out.append(body.substr(0, own_feed->begin));
-            out += number(own_feed->value * edit->scale);
+            out += feed_number(own_feed->value * edit->scale);
             out.append(body.substr(own_feed->end));
             out += fmt::format(" ({})", gcode_comment(edit->comment));
             out.append(line_end);
@@ -275,8 +275,8 @@ std::string write_program_edits(std::string_view text, ProgramFormat format,
               feed_missing(line, "the F in force is an expression");
             if (!gcode_feed)
               feed_missing(line, "no F word is in force before it");
-            out += restore ? fmt::format("F{}{}", number(*gcode_feed), newline)
-                           : fmt::format("F{} ({}){}", number(*gcode_feed * edit->scale),
+            out += restore ? fmt::format("F{}{}", feed_number(*gcode_feed), newline)
+                           : fmt::format("F{} ({}){}", feed_number(*gcode_feed * edit->scale),
                                          gcode_comment(edit->comment), newline);
           }
           break;
@@ -295,7 +295,7 @@ std::string write_program_edits(std::string_view text, ProgramFormat format,
         case Format::krl:
           if (!(edit->programmed_m_s > 0.0))
             feed_missing(line, "no path speed ($VEL.CP) is known for it");
-          out += fmt::format("$VEL.CP={}{}{}", number(edit->programmed_m_s * edit->scale),
+          out += fmt::format("$VEL.CP={}{}{}", feed_number(edit->programmed_m_s * edit->scale),
                              edit->comment.empty() ? "" : " ; " + edit->comment, newline);
           break;
       }

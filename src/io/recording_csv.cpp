@@ -40,7 +40,7 @@ bool is_time_name(std::string_view name) {
 }
 
 // Cells of one line, split at commas and trimmed; a header name may be quoted.
-void split(std::string_view line, std::vector<std::string_view>& cells) {
+void split_cells(std::string_view line, std::vector<std::string_view>& cells) {
   cells.clear();
   std::size_t begin = 0;
   while (true) {
@@ -56,7 +56,7 @@ void split(std::string_view line, std::vector<std::string_view>& cells) {
   }
 }
 
-std::string shown(std::string_view cell) {
+std::string shown_cell(std::string_view cell) {
   std::string out(cell.substr(0, 32));
   for (char& c : out) {
     if (static_cast<unsigned char>(c) < 32 || static_cast<unsigned char>(c) > 126)
@@ -172,7 +172,7 @@ class CsvSource final : public monitoring::SignalSource {
     std::string_view line;
     if (!next_line(line))
       fail(spec_, "file", file_name(spec_) + " is empty (expected a header row, then numbers)");
-    split(line, cells_);
+    split_cells(line, cells_);
     for (const std::string_view cell : cells_)
       columns_.emplace_back(cell);
     for (std::size_t c = 0; c < columns_.size(); ++c) {
@@ -186,7 +186,7 @@ class CsvSource final : public monitoring::SignalSource {
                               first.data() + first.size())
       fail(spec_, "file",
            file_name(spec_) + " line " + std::to_string(line_) +
-               ": expected a header row of column names, got numbers " + shown(line));
+               ": expected a header row of column names, got numbers " + shown_cell(line));
     std::optional<std::size_t> value;
     if (spec_.column.empty()) {
       for (std::size_t c = 0; c < columns_.size() && !value; ++c) {
@@ -243,9 +243,9 @@ class CsvSource final : public monitoring::SignalSource {
     const std::string where =
         file_name(spec_) + " line " + std::to_string(line_) + ", column '" + columns_[column] + "'";
     if (cell.empty() || result.ec != std::errc() || result.ptr != cell.data() + cell.size())
-      fail(spec_, "file", where + ": expected a number, got " + shown(cells_[column]));
+      fail(spec_, "file", where + ": expected a number, got " + shown_cell(cells_[column]));
     if (!std::isfinite(value))
-      fail(spec_, "file", where + ": " + shown(cells_[column]) + " is not a finite number");
+      fail(spec_, "file", where + ": " + shown_cell(cells_[column]) + " is not a finite number");
     return value;
   }
 
@@ -254,7 +254,7 @@ class CsvSource final : public monitoring::SignalSource {
     std::string_view line;
     if (!next_line(line))
       return false;
-    split(line, cells_);
+    split_cells(line, cells_);
     if (cells_.size() != columns_.size())
       fail(spec_, "file",
            file_name(spec_) + " line " + std::to_string(line_) + ": " +

@@ -543,12 +543,12 @@ void skip_values_58(Reader& reader, const BinaryHeader& header, const Header58& 
 
 // The first dataset 58 of another function type than the one read: its
 // record 6 line and type, for the "nothing found" message.
-using Skipped = std::optional<std::pair<int, long long>>;
+using SkippedDataset = std::optional<std::pair<int, long long>>;
 
 // One dataset 58 after its "58"/"58b" line; appends it to `out` when it is an FRF.
 void read_dataset_58(Reader& reader, const BinaryHeader& header, int start_line,
                      const std::optional<UnitFactors>& units, const Uff58ReadOptions& options,
-                     std::vector<UffFrf>& out, Skipped& skipped) {
+                     std::vector<UffFrf>& out, SkippedDataset& skipped) {
   const Header58 h = read_header_58(reader);
   if (h.function_type != 4) {
     // Spectra, coherences, time histories: not FRFs; skipped.
@@ -617,7 +617,7 @@ void read_dataset_58(Reader& reader, const BinaryHeader& header, int start_line,
 // time response (function type 1).
 void read_time_dataset_58(Reader& reader, const BinaryHeader& header, int start_line,
                           const std::optional<UnitFactors>& units, std::vector<UffTimeRecord>& out,
-                          Skipped& skipped) {
+                          SkippedDataset& skipped) {
   const Header58 h = read_header_58(reader);
   if (h.function_type != 1) {
     if (!skipped)
@@ -820,7 +820,7 @@ bool walk_datasets(std::string_view bytes, std::string_view source_name, On58&& 
 
 // When a file holds none of the functions asked for: what it holds instead.
 [[noreturn]] void fail_nothing_found(std::string_view source_name, bool any_58,
-                                     const Skipped& skipped, const char* wanted_type,
+                                     const SkippedDataset& skipped, const char* wanted_type,
                                      const char* wanted) {
   const Reader reader({}, source_name);
   if (skipped)
@@ -852,7 +852,7 @@ std::vector<UffFrf> parse_uff58(std::string_view bytes, std::string_view source_
       (!std::isfinite(*options.ordinate_scale_to_si) || !(*options.ordinate_scale_to_si > 0.0)))
     throw std::invalid_argument("UFF ordinate scale to SI must be positive and finite");
   std::vector<UffFrf> frfs;
-  Skipped skipped;  // first non-FRF dataset 58
+  SkippedDataset skipped;  // first non-FRF dataset 58
   const bool any_58 =
       walk_datasets(bytes, source_name,
                     [&](Reader& reader, const BinaryHeader& header, int start_line,
@@ -871,7 +871,7 @@ std::vector<UffFrf> read_uff58(const std::filesystem::path& file, const Uff58Rea
 std::vector<UffTimeRecord> parse_uff58_time_records(std::string_view bytes,
                                                     std::string_view source_name) {
   std::vector<UffTimeRecord> records;
-  Skipped skipped;  // first dataset 58 of another function type
+  SkippedDataset skipped;  // first dataset 58 of another function type
   const bool any_58 =
       walk_datasets(bytes, source_name,
                     [&](Reader& reader, const BinaryHeader& header, int start_line,

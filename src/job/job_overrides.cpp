@@ -12,6 +12,7 @@
 
 #include "job_overrides.hpp"
 #include "robomill/core/error.hpp"
+#include "robomill/core/text.hpp"
 #include "robomill/job/job_schema.hpp"
 
 namespace robomill::job::detail {
@@ -93,9 +94,7 @@ bool is_key_char(char c) {
   return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
 }
 
-bool is_digit(char c) {
-  return c >= '0' && c <= '9';
-}
+using text::is_digit;
 
 PathStep make_step(std::string_view text, bool bracket) {
   PathStep step{std::string(text), bracket, !text.empty(), 0};

@@ -56,7 +56,6 @@ using detail::field;
 using detail::kDeg;
 using detail::kMm;
 using detail::kNonNegative;
-using detail::kPi;
 using detail::kPositive;
 using detail::kRpm;
 using detail::length_mm;

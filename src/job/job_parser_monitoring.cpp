@@ -108,20 +108,21 @@ ListenSettings read_listen(SectionReader& r) {
   s.line = r.line();
   if (r.has("teeth"))
     s.teeth = r.integer("teeth", 1, 1000);
-  s.spindle_search_fraction =
+  monitoring::ListenOptions& d = s.detector;
+  d.spindle_search_fraction =
       r.quantity_or("spindle_search", dimensionless(kNonNegative, Bound{0.5, true}), 0.1);
-  s.chatter_energy_threshold =
+  d.chatter_energy_threshold =
       r.quantity_or("threshold", dimensionless(kPositive, Bound{1.0, false}), 0.5);
-  s.detect_mains = r.choice("mains", {"auto", "off"}, "auto") == "auto";
-  s.detect_steady_lines = r.boolean_or("steady_lines", true);
+  d.detect_mains = r.choice("mains", {"auto", "off"}, "auto") == "auto";
+  d.detect_steady_lines = r.boolean_or("steady_lines", true);
   if (const auto band = r.quantities("band", hertz(kNonNegative), 2)) {
-    s.band_low_hz = (*band)[0];
-    s.band_high_hz = (*band)[1];
-    if (!(s.band_high_hz > s.band_low_hz))
+    d.band_low_hz = (*band)[0];
+    d.band_high_hz = (*band)[1];
+    if (!(d.band_high_hz > d.band_low_hz))
       r.fail("band", fmt::format("the upper edge ({:.6g} Hz) must exceed the lower ({:.6g} Hz)",
-                                 s.band_high_hz, s.band_low_hz));
+                                 d.band_high_hz, d.band_low_hz));
   }
-  s.segment_s = r.quantity_or("segment", seconds(kPositive), 0.0);
+  d.segment_s = r.quantity_or("segment", seconds(kPositive), 0.0);
   if (const auto range = r.quantities("spindle_range", rpm(), 2)) {
     if (!((*range)[1] > (*range)[0]))
       r.fail("spindle_range", "the upper speed must exceed the lower");

@@ -3,16 +3,15 @@
 // §3: a bare number is read in them) and the QuantityField builders every
 // section parser uses, so each section says only its schema.
 
-#include <numbers>
 #include <optional>
 #include <string_view>
 
+#include "robomill/core/constants.hpp"
 #include "robomill/job/units.hpp"
 #include "yaml_reader.hpp"
 
 namespace robomill::job::detail {
 
-inline constexpr double kPi = std::numbers::pi;
 inline constexpr double kMm = 1e-3;
 inline constexpr double kDeg = kPi / 180.0;
 inline constexpr double kRpm = 2.0 * kPi / 60.0;

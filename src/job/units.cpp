@@ -1,11 +1,11 @@
 #include "robomill/job/units.hpp"
 
+#include "robomill/core/constants.hpp"
 #include "robomill/core/text.hpp"
 
 #include <array>
 #include <charconv>
 #include <cmath>
-#include <numbers>
 #include <stdexcept>
 #include <string>
 #include <system_error>
@@ -18,8 +18,6 @@ struct UnitDefinition {
   double factor;  // SI value of one unit
   Dimension dimension;
 };
-
-constexpr double kPi = std::numbers::pi;
 
 // The units a job may use. Prefixed forms are listed explicitly rather than
 // composed from SI prefixes so that "mN" or "Mm" (almost always typos in a
@@ -103,10 +101,7 @@ const NamedDimension* find_named(const Dimension& dimension) {
 bool is_blank(char c) {
   return c == ' ' || c == '\t' || c == '\r' || c == '\n';
 }
-bool is_digit(char c) {
-  return c >= '0' && c <= '9';
-}
-
+using text::is_digit;
 using text::trim;
 
 // Length of the leading decimal number ([+-]digits[.digits][e[+-]digits]),

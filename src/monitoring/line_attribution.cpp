@@ -100,7 +100,7 @@ double log_psd_at(const std::vector<double>& psd, double bin) {
 
 /// The frequency of the line peaking at bin k, refined by a parabola through
 /// ln PSD at k − 1, k, k + 1 (at most half a bin from k).
-double refined_peak_hz(const std::vector<double>& psd, std::size_t k, double df) {
+double refined_psd_peak_hz(const std::vector<double>& psd, std::size_t k, double df) {
   const double left = std::log(std::max(psd[k - 1], 1e-300));
   const double centre = std::log(std::max(psd[k], 1e-300));
   const double right = std::log(std::max(psd[k + 1], 1e-300));
@@ -258,7 +258,7 @@ double refine_spindle(const ListenOptions& options, const Spectrum& s, const Lin
           std::log(psd[peak] / std::max(lines.floor[peak], 1e-300)) - lines.threshold_ln;
       if (!(height > 0.0))
         continue;
-      const double pk = refined_peak_hz(psd, peak, df);
+      const double pk = refined_psd_peak_hz(psd, peak, df);
       if (std::abs(pk - fk) > df)
         continue;  // a neighbouring line's peak, not this harmonic's
       sum_kp += height * k * pk;
@@ -427,7 +427,7 @@ std::vector<char> mains_line_bins(const ListenOptions& options, const Spectrum& 
     for (std::size_t k = s.first_bin + 1; k < s.last_bin; ++k) {
       if (!in_line[k] || psd[k] < psd[k - 1] || psd[k] <= psd[k + 1])
         continue;
-      const double f = refined_peak_hz(psd, k, df);
+      const double f = refined_psd_peak_hz(psd, k, df);
       bool mains = false;
       for (double base : {50.0, 60.0}) {
         const double m = std::round(f / base);

@@ -4,9 +4,9 @@
 #include <chrono>
 #include <cmath>
 #include <memory>
-#include <numbers>
 #include <stdexcept>
 
+#include "robomill/core/constants.hpp"
 #include "robomill/core/parallel.hpp"
 #include "robomill/cutting/milling_forces.hpp"
 #include "robomill/planning/force_harmonics.hpp"
@@ -15,8 +15,6 @@
 
 namespace robomill::planning {
 namespace {
-
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 std::optional<stability::FloquetMethod> floquet_method(LimitMethod method) {
   switch (method) {

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "detail.hpp"
+#include "figure_helpers.hpp"
 #include "robomill/io/uff58.hpp"
 
 namespace robomill::report::detail {
@@ -30,8 +31,6 @@ namespace {
 using nlohmann::json;
 
 constexpr std::size_t kMaxPoints = 4000;  // per trace: plenty for a screen, small pages
-constexpr const char* kColors[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd",
-                                   "#ff7f0e", "#17becf", "#8c564b", "#e377c2"};
 
 /// A column with the rows whose `reachable` column is 0 as gaps.
 std::vector<double> reachable_only(const Table& t, const std::string& column) {

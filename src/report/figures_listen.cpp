@@ -11,6 +11,7 @@
 #include <string>
 
 #include "detail.hpp"
+#include "figure_helpers.hpp"
 
 namespace robomill::report::detail {
 namespace {
@@ -46,10 +47,6 @@ std::string text_of(const json& summary, const std::string& key) {
   if (v.is_number())
     return display(v.get<double>());
   return "—";
-}
-
-double number_of(const json& object, const std::string& key) {
-  return object.contains(key) && object[key].is_number() ? object[key].get<double>() : std::nan("");
 }
 
 void spectrum_figure(const Table& spectrum, const std::string& index, const json& recording,

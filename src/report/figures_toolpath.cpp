@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "detail.hpp"
+#include "figure_helpers.hpp"
 
 namespace robomill::report::detail {
 namespace {
@@ -21,19 +22,10 @@ namespace {
 using nlohmann::json;
 
 constexpr std::size_t kPathPoints = 20000;  // per 3-D trace (the preview holds at most this)
-constexpr std::size_t kTimePoints = 5000;   // per time trace, extremes kept (4 a pixel)
 constexpr std::size_t kStockNodes = 200;    // per direction of the stock grid
 constexpr std::size_t kWorstMoves = 10;
-constexpr const char* kColors[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd",
-                                   "#ff7f0e", "#17becf", "#8c564b", "#e377c2"};
 constexpr const char* kRapidColor = "#9aa3ad";
 constexpr const char* kPeakColor = "#ff1493";
-
-/// Both 3-D views look from the front right, above, a little further out
-/// than Plotly's default (which clips the y axis of a long part).
-json camera() {
-  return {{"eye", {{"x", 1.45}, {"y", -1.65}, {"z", 1.1}}}};
-}
 
 double summary_number(const json& summary, const std::string& key) {
   const auto it = summary.find(key);
@@ -43,20 +35,6 @@ double summary_number(const json& summary, const std::string& key) {
 /// One number for the page: rounded, or null when not finite.
 json number(double value) {
   return std::isfinite(value) ? json(rounded(value)) : json(nullptr);
-}
-
-std::string integer_text(double value) {
-  return std::isfinite(value) ? fmt::format("{}", std::llround(value)) : "—";
-}
-
-std::string json_text(const json& value) {
-  if (value.is_string())
-    return value.get<std::string>();
-  if (value.is_number_integer() || value.is_number_unsigned())
-    return value.dump();
-  if (value.is_number())
-    return display(value.get<double>());
-  return value.is_null() ? "—" : value.dump();
 }
 
 /// The largest finite value (`fallback` when none is positive).

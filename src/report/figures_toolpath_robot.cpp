@@ -18,17 +18,15 @@
 #include <vector>
 
 #include "detail.hpp"
+#include "figure_helpers.hpp"
 
 namespace robomill::report::detail {
 namespace {
 
 using nlohmann::json;
 
-constexpr std::size_t kTimePoints = 5000;  // per time trace, extremes kept
 constexpr std::size_t kMapPoints = 20000;  // markers of the form-error map
 constexpr double kMarginAxisTop = 5.0;     // the margin axis stops here (stable far beyond)
-constexpr const char* kColors[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd",
-                                   "#ff7f0e", "#17becf", "#8c564b", "#e377c2"};
 constexpr const char* kJointColors[] = {"#1b9e77", "#d95f02", "#7570b3", "#e7298a",
                                         "#66a61e", "#e6ab02", "#a6761d", "#666666"};
 constexpr const char* kRiskColor = "#d62728";
@@ -42,34 +40,8 @@ json margin_scale() {
                       json::array({1.0, "#2166ac"})});
 }
 
-json camera() {
-  return {{"eye", {{"x", 1.45}, {"y", -1.65}, {"z", 1.1}}}};
-}
-
 double at_or_nan(const std::vector<double>& v, std::size_t i) {
   return i < v.size() ? v[i] : std::nan("");
-}
-
-double number_of(const json& object, const std::string& key) {
-  if (!object.is_object())
-    return std::nan("");
-  const auto it = object.find(key);
-  return it != object.end() && it->is_number() ? it->get<double>() : std::nan("");
-}
-
-std::string integer_text(double value) {
-  return std::isfinite(value) ? fmt::format("{}", std::llround(value)) : "—";
-}
-
-/// A summary value for a table: integers as such, numbers to 4 digits.
-std::string json_text(const json& value) {
-  if (value.is_string())
-    return value.get<std::string>();
-  if (value.is_number_integer() || value.is_number_unsigned())
-    return value.dump();
-  if (value.is_number())
-    return display(value.get<double>());
-  return value.is_null() ? "—" : value.dump();
 }
 
 /// The smallest and largest finite value of `v`; {NaN, NaN} if none.

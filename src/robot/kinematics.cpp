@@ -34,7 +34,7 @@ Eigen::Isometry3d to_eigen(const KDL::Frame& f) {
   return t;
 }
 
-KDL::JntArray to_kdl(const Eigen::VectorXd& q) {
+KDL::JntArray to_kdl_joints(const Eigen::VectorXd& q) {
   KDL::JntArray j(static_cast<unsigned>(q.size()));
   j.data = q;
   return j;
@@ -201,7 +201,7 @@ Eigen::Isometry3d tool_pose(const RobotModel& model, const Eigen::VectorXd& q) {
   check_q(model, q, "tool_pose");
   KDL::ChainFkSolverPos_recursive fk(model.chain());
   KDL::Frame f;
-  if (fk.JntToCart(to_kdl(q), f) < 0)
+  if (fk.JntToCart(to_kdl_joints(q), f) < 0)
     throw std::runtime_error("tool_pose: KDL forward kinematics failed");
   return model.description().base * to_eigen(f);
 }
@@ -211,7 +211,7 @@ Eigen::Matrix<double, 6, Eigen::Dynamic> tool_jacobian(const RobotModel& model,
   check_q(model, q, "tool_jacobian");
   KDL::ChainJntToJacSolver solver(model.chain());
   KDL::Jacobian jac(static_cast<unsigned>(model.dof()));
-  if (solver.JntToJac(to_kdl(q), jac) < 0)
+  if (solver.JntToJac(to_kdl_joints(q), jac) < 0)
     throw std::runtime_error("tool_jacobian: KDL Jacobian solver failed");
   // KDL: reference point at the chain's end (tool tip), expressed in the
   // robot base frame; rotate both halves into the cell frame.

@@ -4,16 +4,14 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <stdexcept>
 #include <unordered_map>
 
+#include "robomill/core/constants.hpp"
 #include "robomill/core/error.hpp"
 
 namespace robomill::robot_path {
 namespace {
-
-constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 
 bool feeds(const toolpath::Move& move) {
   return (move.kind == toolpath::MotionKind::linear || move.kind == toolpath::MotionKind::arc) &&

@@ -9,11 +9,11 @@
 #include <limits>
 #include <map>
 #include <mutex>
-#include <numbers>
 #include <stdexcept>
 #include <tuple>
 #include <variant>
 
+#include "robomill/core/constants.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/core/parallel.hpp"
 #include "robomill/cutting/milling_forces.hpp"
@@ -29,7 +29,6 @@
 namespace robomill::robot_path {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 // An arc end within this of φ = 0 or π is a band edge: the dexel engagement
 // resolves angles to a fraction of a degree.
 constexpr double kBandEdgeRad = 2.0 * kPi / 180.0;

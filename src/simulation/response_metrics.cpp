@@ -5,16 +5,15 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <stdexcept>
 
+#include "robomill/core/constants.hpp"
 #include "robomill/monitoring/harmonic_comb.hpp"
 #include "robomill/monitoring/spectrum.hpp"
 
 namespace robomill::simulation {
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 constexpr double kNoMotion = 1e-15;  // m: a direction that does not move
 
 std::vector<double> component(const std::vector<Eigen::Vector3d>& series, int axis,

@@ -12,12 +12,12 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "robomill/core/constants.hpp"
 #include "robomill/cutting/engagement.hpp"
 
 namespace robomill::simulation {
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 /// Everything the force evaluation needs, precomputed; the surface memory is

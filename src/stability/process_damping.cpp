@@ -3,19 +3,16 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
 #include <stdexcept>
 #include <string>
 
+#include "robomill/core/constants.hpp"
 #include "robomill/core/parallel.hpp"
 #include "robomill/cutting/engagement.hpp"
 #include "robomill/cutting/milling_forces.hpp"
 
 namespace robomill::stability {
 namespace {
-
-constexpr double pi = std::numbers::pi;
-constexpr double two_pi = 2.0 * std::numbers::pi;
 
 void require_positive(double value, const char* what) {
   if (!(value > 0.0) || !std::isfinite(value)) {
@@ -29,7 +26,7 @@ void validate(const ProcessDamping& p) {
   if (!(p.friction >= 0.0) || !std::isfinite(p.friction)) {
     throw std::invalid_argument("process damping: friction must be ≥ 0");
   }
-  if (!(p.clearance_rad >= 0.0) || !(p.clearance_rad < 0.5 * pi)) {
+  if (!(p.clearance_rad >= 0.0) || !(p.clearance_rad < 0.5 * kPi)) {
     throw std::invalid_argument("process damping: clearance angle must lie in [0, 90°)");
   }
   if (p.model == ProcessDampingModel::energy_balance && p.clearance_rad > 0.0) {
@@ -43,7 +40,7 @@ double indentation_work_integral(double beta, double alpha) {
   constexpr int n_theta = 256, n_xi = 256;
   double sum = 0.0;
   for (int i = 0; i < n_theta; ++i) {
-    const double theta = two_pi * i / n_theta;
+    const double theta = kTwoPi * i / n_theta;
     const double c = std::cos(theta), s = std::sin(theta);
     double inner = 0.0;
     for (int j = 0; j < n_xi; ++j) {
@@ -54,7 +51,7 @@ double indentation_work_integral(double beta, double alpha) {
     }
     sum += c * inner * beta / n_xi;
   }
-  return sum * two_pi / n_theta;
+  return sum * kTwoPi / n_theta;
 }
 
 /// ∫ sin²φ, ∫ cos²φ, ∫ sin φ cos φ, ∫ sin φ, ∫ cos φ, ∫ dφ over [a, b].
@@ -90,7 +87,7 @@ double energy_balance_damping_n_s_per_m(double indentation_n_per_m3, double wear
                                         double amplitude_m) {
   require_positive(cutting_speed_m_s, "cutting speed");
   require_positive(chatter_frequency_hz, "chatter frequency");
-  const double omega = two_pi * chatter_frequency_hz;
+  const double omega = kTwoPi * chatter_frequency_hz;
   const double k = omega / cutting_speed_m_s;  // wave number 2π/λ
   const double beta = k * wear_land_m;         // 2π w / λ
   if (clearance_rad == 0.0) {
@@ -105,7 +102,7 @@ double energy_balance_damping_n_s_per_m(double indentation_n_per_m3, double wear
   // c = K db / (π ω k) · J(β, α), α = tan γ / (k A): from c π ω A² = ∮ F ẏ dt with
   // F = K db ∫_0^w [p]₊ dx, θ = ωt, ξ = k x.
   const double alpha = std::tan(clearance_rad) / (k * amplitude_m);
-  return indentation_n_per_m3 * engaged_width_m / (pi * omega * k) *
+  return indentation_n_per_m3 * engaged_width_m / (kPi * omega * k) *
          indentation_work_integral(beta, alpha);
 }
 
@@ -132,7 +129,7 @@ Eigen::Matrix3d process_damping_matrix(const RegenerativeModel& model, const Pro
   // exact (the helix only shifts the phase, which the average ignores).
   const int count = straight ? 1 : cutting::default_axial_elements(tool, axial_depth_m);
   const auto edge = tool::discretize_edge(tool, axial_depth_m, count);
-  const double teeth_over_2pi = tool.teeth() / two_pi;
+  const double teeth_over_2pi = tool.teeth() / kTwoPi;
   const double mu = params.friction;
   Eigen::Matrix3d damping = Eigen::Matrix3d::Zero();
   for (const tool::EdgeElement& element : edge) {
@@ -142,7 +139,7 @@ Eigen::Matrix3d process_damping_matrix(const RegenerativeModel& model, const Pro
       continue;
     const double c_e = edge_damping_n_s_per_m(
         params, element.chip_width_m, element.radius_m * spindle_rad_s, chatter_frequency_hz);
-    const bool cylindrical = element.kappa_rad == 0.5 * pi;
+    const bool cylindrical = element.kappa_rad == 0.5 * kPi;
     const double sk = cylindrical ? 1.0 : std::sin(element.kappa_rad);
     const double ck = cylindrical ? 0.0 : std::cos(element.kappa_rad);
     const AngleIntegrals I = angle_integrals(window.entry_rad, window.exit_rad);
@@ -170,7 +167,7 @@ dynamics::ModalModel with_added_damping(const dynamics::ModalModel& modes,
                                         const Eigen::Matrix3d& damping) {
   std::vector<dynamics::Mode> out = modes.modes();
   for (dynamics::Mode& m : out) {
-    const double wn = two_pi * m.natural_frequency_hz;
+    const double wn = kTwoPi * m.natural_frequency_hz;
     // 2 ζ ωn is the mass-normalized modal damping; φᵀ C φ adds to it.
     const double zeta = m.damping_ratio + m.shape.dot(damping * m.shape) / (2.0 * wn);
     m.damping_ratio = std::clamp(zeta, 1e-6, 0.999);

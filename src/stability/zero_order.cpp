@@ -4,14 +4,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
 #include <stdexcept>
+
+#include "robomill/core/constants.hpp"
 
 namespace robomill::stability {
 namespace {
-
-constexpr double pi = std::numbers::pi;
-constexpr double two_pi = 2.0 * std::numbers::pi;
 
 double default_reference_depth_m(const RegenerativeModel& model) {
   const tool::Tool& tool = model.tool();
@@ -25,7 +23,7 @@ double resolve_depth_max(const RegenerativeModel& model, const ZeroOrderOptions&
 
 /// Phase ε of (3): π + 2 arg λ, in (0, 2π) when Re λ > 0.
 double phase_of(std::complex<double> lambda) noexcept {
-  return pi + 2.0 * std::atan(lambda.imag() / lambda.real());
+  return kPi + 2.0 * std::atan(lambda.imag() / lambda.real());
 }
 
 }  // namespace
@@ -36,7 +34,7 @@ Eigen::Matrix3d mean_cutting_stiffness_per_depth(const RegenerativeModel& model,
     throw std::invalid_argument("averaging samples must be ≥ 1");
   const double depth =
       reference_depth_m > 0.0 ? reference_depth_m : default_reference_depth_m(model);
-  const double period_rad = two_pi / model.tool().teeth();
+  const double period_rad = kTwoPi / model.tool().teeth();
   // Midpoint rule over one tooth period: every tooth sweeps 2π/N, so together
   // they visit each edge angle once and the helix lag only shifts the phase.
   return model.cutting_stiffness_sum(period_rad, samples, depth) / (samples * depth);
@@ -87,13 +85,13 @@ std::vector<double> chatter_frequency_grid_rad_s(const std::vector<FrfPeak>& pea
   // are resolved alike.
   const double ratio = std::log(f_max / f_min);
   for (int i = 0; i < options.global_points; ++i) {
-    grid.push_back(two_pi * f_min * std::exp(ratio * i / (options.global_points - 1)));
+    grid.push_back(kTwoPi * f_min * std::exp(ratio * i / (options.global_points - 1)));
   }
   // Around each peak: offsets ζ ωn sinh(s); uniform within a bandwidth, where
   // the phase of G turns fastest, and log-spaced in the flanks.
   const double s_max = std::asinh(options.peak_half_bandwidths);
   for (const FrfPeak& p : peaks) {
-    const double wn = two_pi * p.frequency_hz;
+    const double wn = kTwoPi * p.frequency_hz;
     const double half_band = std::max(p.damping_ratio, 1e-5) * wn;
     const int count = options.points_per_peak;
     for (int i = 0; i < count; ++i) {
@@ -290,7 +288,7 @@ bool ZeroOrderSolver::refine(int branch, int interval, int lobe, double delay_s,
   const double w0 = grid_[static_cast<std::size_t>(interval)];
   const double w1 = grid_[static_cast<std::size_t>(interval) + 1];
   const std::complex<double> l0 = lambda_[i0], l1 = lambda_[i0 + 1];
-  const double target = two_pi * lobe;
+  const double target = kTwoPi * lobe;
   // The branch's eigenvalue at ω: the one nearest the linear interpolation.
   auto branch_value = [&](double w) {
     const double t = (w - w0) / (w1 - w0);
@@ -353,7 +351,7 @@ ZeroOrderLimit ZeroOrderSolver::limit(double spindle_rad_s) const {
   ZeroOrderLimit result;
   result.spindle_rad_s = spindle_rad_s;
   result.depth_limit_m = depth_max_;
-  const double delay = two_pi / (teeth_ * spindle_rad_s);
+  const double delay = kTwoPi / (teeth_ * spindle_rad_s);
   const std::size_t n = grid_.size();
   // A crossing with interpolated Re λ below this would lie above depth_max.
   const double re_floor = 0.5 / (depth_max_ * (1.0 + refine_margin_));
@@ -375,10 +373,10 @@ ZeroOrderLimit ZeroOrderSolver::limit(double spindle_rad_s) const {
       const double f0 = grid_[i] * delay - epsilon_[base + i];
       const double f1 = grid_[i + 1] * delay - epsilon_[base + i + 1];
       const double lo = std::min(f0, f1), hi = std::max(f0, f1);
-      const long k_first = std::max(0L, static_cast<long>(std::ceil(lo / two_pi)));
-      const long k_last = static_cast<long>(std::floor(hi / two_pi));
+      const long k_first = std::max(0L, static_cast<long>(std::ceil(lo / kTwoPi)));
+      const long k_last = static_cast<long>(std::floor(hi / kTwoPi));
       for (long k = k_first; k <= k_last; ++k) {
-        const double t = f1 != f0 ? (two_pi * static_cast<double>(k) - f0) / (f1 - f0) : 0.0;
+        const double t = f1 != f0 ? (kTwoPi * static_cast<double>(k) - f0) / (f1 - f0) : 0.0;
         const double re = re0 + t * (re1 - re0);
         if (!(re >= re_floor))
           continue;
@@ -410,7 +408,7 @@ ZeroOrderLimit ZeroOrderSolver::limit(double spindle_rad_s) const {
       if (depth <= depth_max_) {
         result.depth_limit_m = depth;
         result.limited = true;
-        result.chatter_frequency_hz = omega / two_pi;
+        result.chatter_frequency_hz = omega / kTwoPi;
         result.lobe = c.lobe;
         result.branch = c.branch;
       }
@@ -490,10 +488,10 @@ ZeroOrderLimit ZeroOrderSolver::minimum_limit() const {
     value = anchor;
   }
   const double depth = 0.5 / value.real();
-  result.chatter_frequency_hz = omega / two_pi;
+  result.chatter_frequency_hz = omega / kTwoPi;
   result.branch = best_branch;
   result.lobe = 0;
-  result.spindle_rad_s = two_pi * omega / (teeth_ * phase_of(value));
+  result.spindle_rad_s = kTwoPi * omega / (teeth_ * phase_of(value));
   if (depth <= depth_max_) {
     result.depth_limit_m = depth;
     result.limited = true;

@@ -12,12 +12,11 @@
 #include <string>
 #include <utility>
 
+#include "robomill/core/constants.hpp"
 #include "robomill/core/parallel.hpp"
 
 namespace robomill::surface {
 namespace {
-
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 void require(bool condition, const std::string& message) {
   if (!condition)

@@ -2,12 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
+
+#include "robomill/core/constants.hpp"
 
 namespace robomill::toolpath {
 namespace {
-
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 // Signed angle from a to b about n (both in the plane normal to n), in (−π, π].
 double signed_angle(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& n) {

@@ -4,14 +4,12 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <numbers>
 #include <optional>
+
+#include "robomill/core/constants.hpp"
 
 namespace robomill::toolpath {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 // Per-thread scratch, so a query allocates only when the angle grid grows.
 struct Scratch {

@@ -6,17 +6,15 @@
 #include <cmath>
 #include <future>
 #include <map>
-#include <numbers>
 #include <optional>
 
+#include "robomill/core/constants.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/core/parallel.hpp"
 #include "robomill/cutting/milling_forces.hpp"
 
 namespace robomill::toolpath {
 namespace {
-
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 // A cutter ready for the program: the validated tool, its solid and its
 // engagement grid on this stock.

@@ -10,6 +10,8 @@
 #include "job/expect_input_error.hpp"
 #include "robomill/job/job.hpp"
 
+namespace test_monitoring_section_cpp {
+
 namespace {
 
 using robomill::io::RecordingFormat;
@@ -63,12 +65,12 @@ listen:
   EXPECT_EQ(r.line, 1);  // the section key's line
   ASSERT_TRUE(job.listen);
   EXPECT_EQ(*job.listen->teeth, 3);
-  EXPECT_DOUBLE_EQ(job.listen->spindle_search_fraction, 0.05);
-  EXPECT_DOUBLE_EQ(job.listen->chatter_energy_threshold, 0.6);
-  EXPECT_FALSE(job.listen->detect_mains);
-  EXPECT_FALSE(job.listen->detect_steady_lines);
-  EXPECT_DOUBLE_EQ(job.listen->band_high_hz, 5000.0);
-  EXPECT_DOUBLE_EQ(job.listen->segment_s, 0.5);
+  EXPECT_DOUBLE_EQ(job.listen->detector.spindle_search_fraction, 0.05);
+  EXPECT_DOUBLE_EQ(job.listen->detector.chatter_energy_threshold, 0.6);
+  EXPECT_FALSE(job.listen->detector.detect_mains);
+  EXPECT_FALSE(job.listen->detector.detect_steady_lines);
+  EXPECT_DOUBLE_EQ(job.listen->detector.band_high_hz, 5000.0);
+  EXPECT_DOUBLE_EQ(job.listen->detector.segment_s, 0.5);
   EXPECT_NEAR(job.listen->spindle_range_rad_s->second, 12000 * kRpm, 1e-9);
 }
 
@@ -125,3 +127,5 @@ TEST(MonitoringSection, MalformedSectionsNameFieldAndLine) {
 }
 
 }  // namespace
+
+}  // namespace test_monitoring_section_cpp

@@ -15,6 +15,8 @@
 #include "robomill/job/job.hpp"
 #include "robomill/job/job_schema.hpp"
 
+namespace test_overrides_cpp {
+
 namespace {
 
 using robomill::InputError;
@@ -518,7 +520,7 @@ std::vector<ListCase> list_cases() {
      "recording.ignore.0=120 Hz",
      [](const Job& j) { EXPECT_EQ(j.recordings.at(0).ignore.at(0).frequency_hz, 120.0); }},
     {"listen.band", "listen/benchmark_sound_wav.yaml", {"listen.band=[10 Hz, 5 kHz]"},
-     "listen.band.0=20 Hz", [](const Job& j) { EXPECT_EQ(j.listen->band_low_hz, 20.0); }},
+     "listen.band.0=20 Hz", [](const Job& j) { EXPECT_EQ(j.listen->detector.band_low_hz, 20.0); }},
     {"listen.spindle_range", "listen/benchmark_displacement_wav.yaml", {},
      "listen.spindle_range.0=9000 rpm",
      [](const Job& j) { EXPECT_NEAR(j.listen->spindle_range_rad_s->first, 300.0 * std::numbers::pi, 1e-9); }},
@@ -646,3 +648,5 @@ TEST(OverrideOption, EveryListInTheSchemaTakesIndices) {
 }
 
 }  // namespace
+
+}  // namespace test_overrides_cpp

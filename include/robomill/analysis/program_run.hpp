@@ -107,6 +107,21 @@ toolpath::Tooling job_tooling(const job::Job& job, const toolpath::Program& prog
 toolpath::ProgramAnalysisSettings program_analysis_settings(const job::ToolpathSettings& settings,
                                                             int threads, std::string source_name);
 
+/// How many samples the run is expected to give: the path within the largest
+/// cutter's reach of the stock box at the sampling spacing (toolpath.spacing,
+/// else half the stock's resolution), plus two per move. Only the path near
+/// the stock is sampled (toolpath/program_analysis.hpp). Needs the run's
+/// program and tooling (set when ProgramRunOptions::on_start is called).
+double expected_samples(const job::Job& job, const ProgramRun& run);
+
+/// The robot drawn at a posture: the joint origins and the tool frame, in the
+/// cell (m).
+struct RobotDrawing {
+  std::vector<Eigen::Vector3d> joint_origins_m;
+  Eigen::Isometry3d tool_pose = Eigen::Isometry3d::Identity();
+};
+RobotDrawing robot_drawing(const robot_path::RobotAlongPath& along, const Eigen::VectorXd& q_rad);
+
 /// The run on up to options.threads threads. Needs the cutting, toolpath and
 /// stock sections. Throws InputError naming the field and line: a program
 /// its reader refuses, a cutter the program contradicts, a program that

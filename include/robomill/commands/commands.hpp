@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "robomill/analysis/frf_synthesis.hpp"
 #include "robomill/atlas/atlas.hpp"
 #include "robomill/atlas/store.hpp"
 #include "robomill/commands/command_result.hpp"
@@ -23,6 +24,7 @@
 
 namespace robomill::analysis {
 struct BlockSharing;      // analysis/program_run.hpp
+struct RecordingVerdict;  // analysis/recording_verdicts.hpp
 struct StabilityDiagram;  // analysis/stability_diagram.hpp
 }  // namespace robomill::analysis
 
@@ -63,6 +65,9 @@ CommandResult compute_toolpath(const job::Job& job, int threads,
 /// docs/monitoring.md); with a stability: section also the lobes (sld) and
 /// the model's prediction at each recorded cut.
 CommandResult compute_listen(const job::Job& job, int threads, const Progress& progress = {});
+/// One judged recording's keys as `listen` writes them in summary.json (its
+/// "recordings" entries); Python's analyze_signal returns the same keys.
+nlohmann::json listen_recording_json(const analysis::RecordingVerdict& recording);
 
 /// `robomill identify-cutting DATA`: the test's setup as typed on the
 /// command line (quantities with units), else from a job's tool and process.
@@ -89,15 +94,11 @@ struct IdentifyStiffnessSettings {
 CommandResult compute_identify_stiffness(const job::Job& job,
                                          const IdentifyStiffnessSettings& settings);
 
-/// `robomill frf JOB`: FRFs synthesized from the job's modal table.
-struct FrfSettings {
-  std::string from, to, step;      ///< frequencies as typed ("10 Hz"); empty: automatic
-  std::string spacing = "linear";  ///< linear (from, to, step) or log (from, to, points)
-  int points = 5000;               ///< log spacing
-  std::string kind = "receptance";
+/// `robomill frf JOB`: FRFs synthesized from the job's modal table
+/// (analysis/frf_synthesis.hpp: the grid, kind and noise), written as
+/// `format`.
+struct FrfSettings : analysis::FrfSynthesisSettings {
   std::string format = "uff58";  ///< uff58, uff58b or csv
-  double noise = 0.0;            ///< relative complex noise (0.02 = 2 %)
-  std::uint32_t seed = 1;
 };
 CommandResult compute_frf(const job::Job& job, const FrfSettings& settings);
 

@@ -15,4 +15,9 @@ inline std::string_view trim(std::string_view text) noexcept {
   return text.substr(first, last - first + 1);
 }
 
+/// `c` is a decimal digit, 0 to 9.
+inline bool is_digit(char c) {
+  return c >= '0' && c <= '9';
+}
+
 }  // namespace robomill::text

@@ -18,6 +18,7 @@
 #include "robomill/dynamics/modal_model.hpp"
 #include "robomill/io/program_readers.hpp"
 #include "robomill/io/recording.hpp"
+#include "robomill/monitoring/recording_analysis.hpp"
 #include "robomill/planning/cutting_advice.hpp"
 #include "robomill/planning/pose_optimization.hpp"
 #include "robomill/robot/posture_interpolation.hpp"
@@ -359,13 +360,14 @@ struct RobotPathJobSettings {
 /// `listen:` — how `robomill listen` judges recordings (docs/monitoring.md).
 /// The recordings themselves are `recording:` / `recordings:`.
 struct ListenSettings {
-  std::optional<int> teeth;               ///< `teeth`: else tool.teeth (1 for a single insert)
-  double spindle_search_fraction = 0.1;   ///< `spindle_search` (%)
-  double chatter_energy_threshold = 0.5;  ///< `threshold`: chatter share that decides
-  bool detect_mains = true;               ///< `mains: auto|off`
-  bool detect_steady_lines = true;        ///< `steady_lines: true|false`
-  double band_low_hz = 0.0, band_high_hz = 0.0;  ///< `band: [low, high]` (0: automatic)
-  double segment_s = 0.0;                        ///< `segment` (0: automatic)
+  std::optional<int> teeth;  ///< `teeth`: else tool.teeth (1 for a single insert)
+  /// The detector's settings: spindle_search_fraction (`spindle_search`),
+  /// chatter_energy_threshold (`threshold`), detect_mains (`mains`: auto or
+  /// off), detect_steady_lines (`steady_lines`), band_low_hz and band_high_hz
+  /// (`band`: [low, high]; 0: automatic) and segment_s (`segment`; 0:
+  /// automatic). The rest (the commanded speed, the teeth, the recording's
+  /// ignore list) is each recording's, set by `robomill listen`.
+  monitoring::ListenOptions detector;
   /// `spindle_range: [min, max]` for the advice; else advise.speeds, else
   /// stability.speeds, else half to one and a half times the spindle speed.
   std::optional<std::pair<double, double>> spindle_range_rad_s;
