@@ -10,9 +10,9 @@ exits 1 naming each one that does not; --list N prints the N longest
 functions whatever their length. Counting is by braces at namespace level,
 after removing comments, strings and character literals: every function
 defined at namespace level, from its signature's first line to its closing
-brace (a class's member functions defined inside it count with the class,
-so a class over the limit is reported by its first line too only when it
-is a function; tables initialised with `= {` are data, not functions).
+brace, and every member function defined inside a class, struct or union
+body the same way (the class itself is not a function; tables initialised
+with `= {` are data, not functions).
 """
 import os
 import re
@@ -39,8 +39,15 @@ def bodies(text):
         for column, char in enumerate(line):
             if char == "{":
                 head = " ".join(lines[statement_start:number + 1])
-                if depth == len(namespaces) and re.search(r"\b(namespace|extern\s*$)", head[-200:]) \
-                        and not re.search(r"\)\s*(const\s*)?(noexcept\s*)?(->[^{]*)?\{?\s*$", head):
+                statement = " ".join(lines[statement_start:number] + [line[:column]]).strip()
+                scope = depth == len(namespaces) and (
+                    (re.search(r"\b(namespace|extern\s*$)", head[-200:])
+                     and not re.search(r"\)\s*(const\s*)?(noexcept\s*)?(->[^{]*)?\{?\s*$", head))
+                    # A class's body: its member functions are measured
+                    # one by one, as functions at namespace level are.
+                    or re.match(r"(template\s*<.*>\s*)?(class|struct|union)\s+[\w:]+"
+                                r"(\s+final)?(\s*:[^(){}]*)?$", statement))
+                if scope:
                     namespaces.append(depth)
                     depth += 1
                     statement_start = number + 1
@@ -65,7 +72,8 @@ def bodies(text):
                     statement_start = number + 1
             elif char == ";" and depth == len(namespaces):
                 statement_start = number + 1
-        if depth == len(namespaces) and not line.strip():
+        if depth == len(namespaces) and (not line.strip() or re.match(
+                r"\s*(public|private|protected)\s*:\s*$", line)):
             statement_start = number + 1
     return found
 

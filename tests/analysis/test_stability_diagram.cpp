@@ -17,6 +17,8 @@
 #include "robomill/deflection/contact_boundary.hpp"
 #include "robomill/job/job.hpp"
 
+namespace test_stability_diagram_cpp {
+
 namespace ra = robomill::analysis;
 namespace job = robomill::job;
 
@@ -200,3 +202,5 @@ TEST(DeflectionSweep, AutomaticDepthsSpanBothContactCases) {
   EXPECT_GT(sweep.max_deflection_m, 0.0);
   EXPECT_GE(sweep.max_entry_increase_rad, 0.0);
 }
+
+}  // namespace test_stability_diagram_cpp

@@ -12,6 +12,7 @@
 #include "robomill/job/job.hpp"
 
 namespace robomill::io {
+namespace job_test_cpp {
 namespace {
 
 const std::filesystem::path kExample =
@@ -65,4 +66,5 @@ TEST(AtlasJob, BadInputNamesTheField) {
 }
 
 }  // namespace
+}  // namespace job_test_cpp
 }  // namespace robomill::io

@@ -15,6 +15,7 @@
 #include "robomill/robot/robot_model.hpp"
 
 namespace robomill::atlas {
+namespace store_test_cpp {
 namespace {
 
 namespace fs = std::filesystem;
@@ -188,4 +189,5 @@ TEST(AtlasContext, ResultsDoNotDependOnOrder) {
 }
 
 }  // namespace
+}  // namespace store_test_cpp
 }  // namespace robomill::atlas

@@ -6,6 +6,8 @@
 #include "robomill/cutting/cutting_law.hpp"
 #include "robomill/cutting/engagement.hpp"
 
+namespace test_cutting_laws_cpp {
+
 namespace {
 
 using namespace robomill::cutting;
@@ -106,3 +108,5 @@ TEST(Engagement, AltintasEntryAndExitAngles) {
 }
 
 }  // namespace
+
+}  // namespace test_cutting_laws_cpp

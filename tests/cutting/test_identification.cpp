@@ -8,6 +8,8 @@
 #include "robomill/cutting/coefficient_identification.hpp"
 #include "robomill/cutting/milling_forces.hpp"
 
+namespace test_identification_cpp {
+
 namespace {
 
 using namespace robomill;
@@ -82,3 +84,5 @@ TEST(CoefficientIdentification, RefusesASingleFeed) {
 }
 
 }  // namespace
+
+}  // namespace test_identification_cpp

@@ -11,6 +11,8 @@
 #include "robomill/cutting/average_forces.hpp"
 #include "robomill/cutting/milling_forces.hpp"
 
+namespace test_milling_forces_cpp {
+
 namespace {
 
 using namespace robomill;
@@ -399,3 +401,5 @@ TEST(BullNose, SlotInsideTheCornerMatchesTheClosedForm) {
 }
 
 }  // namespace
+
+}  // namespace test_milling_forces_cpp

@@ -14,6 +14,8 @@
 #include "robomill/deflection/node_compliance.hpp"
 #include "support/validation_record.hpp"
 
+namespace test_contact_boundary_cpp {
+
 namespace {
 
 using namespace robomill::deflection;
@@ -208,3 +210,5 @@ TEST(DeformedEngagement, InterpolatesTheContactBoundaryOverDepthAndHeight) {
 }
 
 }  // namespace
+
+}  // namespace test_contact_boundary_cpp

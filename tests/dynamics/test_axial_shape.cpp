@@ -6,6 +6,8 @@
 
 #include "robomill/dynamics/axial_shape.hpp"
 
+namespace test_axial_shape_cpp {
+
 namespace {
 
 using robomill::dynamics::AxialShape;
@@ -37,3 +39,5 @@ TEST(AxialShape, RejectsUnorderedOrNonFinitePoints) {
 }
 
 }  // namespace
+
+}  // namespace test_axial_shape_cpp

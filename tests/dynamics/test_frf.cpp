@@ -9,6 +9,8 @@
 #include "robomill/core/error.hpp"
 #include "robomill/dynamics/frf.hpp"
 
+namespace test_frf_cpp {
+
 namespace {
 
 using namespace robomill::dynamics;
@@ -123,3 +125,5 @@ TEST(Frf, ValidationRejectsBadGridsValuesAndAxes) {
 }
 
 }  // namespace
+
+}  // namespace test_frf_cpp

@@ -7,6 +7,8 @@
 #include "robomill/dynamics/measured_receptance.hpp"
 #include "robomill/stability/lobes.hpp"
 
+namespace test_measured_receptance_cpp {
+
 namespace {
 
 using namespace robomill::dynamics;
@@ -60,3 +62,5 @@ TEST(MeasuredReceptance, RejectsDuplicatesAndDisjointRanges) {
 }
 
 }  // namespace
+
+}  // namespace test_measured_receptance_cpp

@@ -21,6 +21,8 @@
 #include "robomill/dynamics/modal_fit.hpp"
 #include "support/validation_record.hpp"
 
+namespace test_modal_fit_cpp {
+
 namespace rd = robomill::dynamics;
 
 namespace {
@@ -402,3 +404,5 @@ TEST(ModalFit, NoPhysicalModeNamesTheBand) {
             std::string::npos)
       << unstable;
 }
+
+}  // namespace test_modal_fit_cpp

@@ -10,6 +10,8 @@
 #include "robomill/core/error.hpp"
 #include "robomill/io/frf_csv.hpp"
 
+namespace test_frf_csv_cpp {
+
 namespace {
 
 using namespace robomill;
@@ -86,3 +88,5 @@ TEST(FrfCsv, RejectsBadFilesWithLineNumbers) {
 }
 
 }  // namespace
+
+}  // namespace test_frf_csv_cpp

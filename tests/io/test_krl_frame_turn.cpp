@@ -23,6 +23,7 @@
 #include "robomill/job/job.hpp"
 
 namespace robomill::io {
+namespace test_krl_frame_turn_cpp {
 namespace {
 
 namespace fs = std::filesystem;
@@ -193,4 +194,5 @@ TEST(KrlFrameTurn, EachFrameByItsOwnAngleFromTheSitesTheReaderRecords) {
 }
 
 }  // namespace
+}  // namespace test_krl_frame_turn_cpp
 }  // namespace robomill::io

@@ -22,6 +22,7 @@
 #include "robomill/job/job.hpp"
 
 namespace robomill::io {
+namespace test_krl_point_edits_cpp {
 namespace {
 
 namespace fs = std::filesystem;
@@ -98,4 +99,5 @@ TEST(KrlPointEdits, EndsMoveWhereTheirPointsAreWrittenAndReadBack) {
 }
 
 }  // namespace
+}  // namespace test_krl_point_edits_cpp
 }  // namespace robomill::io

@@ -23,6 +23,7 @@
 #include "robomill/robot_path/deflection_compensation.hpp"
 
 namespace robomill::io {
+namespace test_program_writer_cpp {
 namespace {
 
 constexpr double kRadSPerRpm = 2.0 * std::numbers::pi / 60.0;
@@ -185,9 +186,11 @@ TEST(ProgramWriter, KrlPathSpeedSetBeforeTheMotionAndRestored) {
 }
 
 }  // namespace
+}  // namespace test_program_writer_cpp
 }  // namespace robomill::io
 
 namespace robomill::io {
+namespace test_program_writer_cpp {
 namespace {
 
 // Every program of the readers' corpus (tests/toolpath/gcode, apt, krl: what
@@ -459,9 +462,11 @@ TEST(ProgramWriter, MovedPointsOfTheReaderCorpusRoundTrip) {
 }
 
 }  // namespace
+}  // namespace test_program_writer_cpp
 }  // namespace robomill::io
 
 namespace robomill::io {
+namespace test_program_writer_cpp {
 namespace {
 
 // An arc's compensation written (PointEdit::arc) on the same corpus: for
@@ -591,4 +596,5 @@ TEST(ProgramWriter, MovedArcsOfTheReaderCorpusRoundTrip) {
 }
 
 }  // namespace
+}  // namespace test_program_writer_cpp
 }  // namespace robomill::io

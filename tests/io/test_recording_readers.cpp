@@ -25,6 +25,8 @@
 #include "robomill/io/recording.hpp"
 #include "robomill/io/uff58.hpp"
 
+namespace test_recording_readers_cpp {
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -600,3 +602,5 @@ TEST_F(RecordingReaders, WriteWavLeavesNoTemporaryFiles) {
 }
 
 }  // namespace
+
+}  // namespace test_recording_readers_cpp

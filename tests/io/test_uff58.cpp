@@ -13,6 +13,8 @@
 #include "robomill/core/error.hpp"
 #include "robomill/io/uff58.hpp"
 
+namespace test_uff58_cpp {
+
 namespace {
 
 using namespace robomill;
@@ -260,3 +262,5 @@ TEST(Uff58, RejectsMalformedInputWithLineAndReason) {
 }
 
 }  // namespace
+
+}  // namespace test_uff58_cpp

@@ -12,6 +12,8 @@
 #include "robomill/io/output_bundle.hpp"
 #include "robomill/io/summary.hpp"
 
+namespace test_writers_cpp {
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -140,3 +142,5 @@ TEST(Summary, RefusesNonFiniteNumbers) {
 }
 
 }  // namespace
+
+}  // namespace test_writers_cpp

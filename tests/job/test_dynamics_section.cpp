@@ -13,6 +13,8 @@
 #include "robomill/core/error.hpp"
 #include "robomill/job/job.hpp"
 
+namespace test_dynamics_section_cpp {
+
 namespace {
 
 using robomill::InputError;
@@ -166,3 +168,5 @@ stability:
 }
 
 }  // namespace
+
+}  // namespace test_dynamics_section_cpp

@@ -14,6 +14,8 @@
 #include "robomill/core/error.hpp"
 #include "robomill/job/job.hpp"
 
+namespace test_job_parser_cpp {
+
 namespace {
 
 using robomill::InputError;
@@ -448,3 +450,5 @@ TEST(FuzzRegression, StrayFlowIndicatorDoesNotHang) {
 }
 
 }  // namespace
+
+}  // namespace test_job_parser_cpp

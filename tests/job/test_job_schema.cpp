@@ -16,6 +16,8 @@
 #include "robomill/job/job.hpp"
 #include "robomill/job/job_schema.hpp"
 
+namespace test_job_schema_cpp {
+
 namespace {
 
 using namespace robomill;
@@ -203,3 +205,5 @@ TEST(JobSchema, ExamplesAndKitchenSinksReadEveryField) {
 }
 
 }  // namespace
+
+}  // namespace test_job_schema_cpp

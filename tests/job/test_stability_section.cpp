@@ -11,6 +11,8 @@
 #include "robomill/core/error.hpp"
 #include "robomill/job/job.hpp"
 
+namespace test_stability_section_cpp {
+
 namespace {
 
 using robomill::InputError;
@@ -288,3 +290,5 @@ TEST(StabilitySection, OverridesReachTheSection) {
 }
 
 }  // namespace
+
+}  // namespace test_stability_section_cpp

@@ -9,6 +9,8 @@
 
 #include "robomill/job/units.hpp"
 
+namespace test_units_cpp {
+
 namespace {
 
 using robomill::job::Dimension;
@@ -179,3 +181,5 @@ TEST(UnitDescription, ReadableNames) {
 }
 
 }  // namespace
+
+}  // namespace test_units_cpp

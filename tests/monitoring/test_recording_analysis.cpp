@@ -13,6 +13,8 @@
 
 #include "robomill/monitoring/recording_analysis.hpp"
 
+namespace test_recording_analysis_cpp {
+
 namespace {
 
 using namespace robomill::monitoring;
@@ -251,3 +253,5 @@ TEST(SignalSource, VectorSourceDeliversItsSamplesOnce) {
 }
 
 }  // namespace
+
+}  // namespace test_recording_analysis_cpp

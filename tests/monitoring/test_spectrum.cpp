@@ -11,6 +11,8 @@
 
 #include "robomill/monitoring/spectrum.hpp"
 
+namespace test_spectrum_cpp {
+
 namespace {
 
 using namespace robomill;
@@ -49,3 +51,5 @@ TEST(Spectrum, NoResonanceInABandHoldingOnlyATail) {
 }
 
 }  // namespace
+
+}  // namespace test_spectrum_cpp

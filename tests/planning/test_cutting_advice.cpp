@@ -18,6 +18,7 @@
 #include "robomill/stability/zero_order.hpp"
 
 namespace robomill::planning {
+namespace test_cutting_advice_cpp {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
@@ -338,4 +339,5 @@ TEST(RedundancyStudy, AThreeJointRobotHasNoRedundancy) {
 }
 
 }  // namespace
+}  // namespace test_cutting_advice_cpp
 }  // namespace robomill::planning

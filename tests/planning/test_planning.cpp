@@ -11,6 +11,8 @@
 #include "robomill/planning/pose_optimization.hpp"
 #include "support/case004.hpp"
 
+namespace test_planning_cpp {
+
 namespace {
 
 using namespace robomill;
@@ -182,3 +184,5 @@ TEST(PoseOptimization, DirectIsDeterministicAndNeverReturnsAnUnreachablePose) {
 }
 
 }  // namespace
+
+}  // namespace test_planning_cpp

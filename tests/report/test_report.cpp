@@ -12,6 +12,8 @@
 #include "robomill/report/key_inputs.hpp"
 #include "robomill/report/report.hpp"
 
+namespace test_report_cpp {
+
 namespace rr = robomill::report;
 namespace rd = robomill::report::detail;
 
@@ -113,3 +115,5 @@ TEST(ReportInputs, RobotPathSettingsAndFeedLimitsOfTheRobotPocket) {
   EXPECT_EQ(robot_path["feed limits"],
             "force 120 N, deflection 50 µm, joint speed 20 °/s; feed 50 – 2000 mm/min");
 }
+
+}  // namespace test_report_cpp

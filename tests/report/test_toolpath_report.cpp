@@ -15,6 +15,8 @@
 #include "../../src/report/detail.hpp"
 #include "robomill/report/report.hpp"
 
+namespace test_toolpath_report_cpp {
+
 namespace rr = robomill::report;
 namespace rd = robomill::report::detail;
 using nlohmann::json;
@@ -797,3 +799,5 @@ TEST(ToolpathRobotReport, OptimizedProgramShowsTheFeedsAndTheBeforeAfterTable) {
   EXPECT_EQ(figure_titled(kept, "The better program: feed per program line"), nullptr);
   EXPECT_EQ(table_starting(kept, "The better program"), nullptr);
 }
+
+}  // namespace test_toolpath_report_cpp

@@ -19,6 +19,8 @@
 #include "robomill/robot/robot_model.hpp"
 #include "robomill/robot/stiffness.hpp"
 
+namespace test_joint_dynamics_cpp {
+
 namespace {
 
 using namespace robomill::robot;
@@ -276,3 +278,5 @@ TEST(Damping, ExplicitMixedAndMissing) {
 }
 
 }  // namespace
+
+}  // namespace test_joint_dynamics_cpp

@@ -12,6 +12,8 @@
 #include "robomill/robot/kinematics.hpp"
 #include "robomill/robot/robot_model.hpp"
 
+namespace test_kinematics_cpp {
+
 namespace {
 
 using namespace robomill::robot;
@@ -170,3 +172,5 @@ TEST(InverseKinematics, UnreachablePoseReturnsNotConvergedWithFiniteResidual) {
 }
 
 }  // namespace
+
+}  // namespace test_kinematics_cpp

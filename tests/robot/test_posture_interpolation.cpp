@@ -11,6 +11,8 @@
 #include "expect_invalid.hpp"
 #include "robomill/robot/posture_interpolation.hpp"
 
+namespace test_posture_interpolation_cpp {
+
 namespace {
 
 using robomill::test::expect_invalid;
@@ -239,3 +241,5 @@ TEST(PostureInterpolation, InvalidInputIsRefused) {
 }
 
 }  // namespace
+
+}  // namespace test_posture_interpolation_cpp

@@ -13,6 +13,8 @@
 
 #include "robomill/robot/reduced_model.hpp"
 
+namespace test_reduced_model_cpp {
+
 namespace {
 
 using namespace robomill::robot;
@@ -190,3 +192,5 @@ TEST(ReducedModel, InvalidInputIsRefused) {
 }
 
 }  // namespace
+
+}  // namespace test_reduced_model_cpp

@@ -13,6 +13,8 @@
 #include "robomill/robot/kinematics.hpp"
 #include "robomill/robot/robot_model.hpp"
 
+namespace test_robot_model_cpp {
+
 namespace {
 
 using namespace robomill::robot;
@@ -215,3 +217,5 @@ TEST(RobotModelValidation, RejectsBadUrdf) {
 }
 
 }  // namespace
+
+}  // namespace test_robot_model_cpp

@@ -14,6 +14,8 @@
 #include "robomill/robot/robot_model.hpp"
 #include "robomill/robot/stiffness.hpp"
 
+namespace test_stiffness_cpp {
+
 namespace {
 
 using namespace robomill::robot;
@@ -184,3 +186,5 @@ TEST(Stiffness, SingularPostureThrows) {
 }
 
 }  // namespace
+
+}  // namespace test_stiffness_cpp

@@ -13,6 +13,8 @@
 #include "expect_invalid.hpp"
 #include "robomill/robot/stiffness_identification.hpp"
 
+namespace test_stiffness_identification_cpp {
+
 namespace {
 
 using robomill::test::expect_invalid;
@@ -222,3 +224,5 @@ TEST(StiffnessIdentification, InvalidSamplesAreRefused) {
 }
 
 }  // namespace
+
+}  // namespace test_stiffness_identification_cpp

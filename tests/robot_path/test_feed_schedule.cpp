@@ -12,6 +12,7 @@
 #include "robomill/robot_path/feed_schedule.hpp"
 
 namespace robomill::robot_path {
+namespace test_feed_schedule_cpp {
 namespace {
 
 // Line i: edge force E_i plus a cutting force C_i s^0.7 at feed scale s;
@@ -195,4 +196,5 @@ TEST(FeedSchedule, InconsistentLimitsAreRefused) {
 }
 
 }  // namespace
+}  // namespace test_feed_schedule_cpp
 }  // namespace robomill::robot_path

@@ -34,6 +34,7 @@
 #include "support/case004.hpp"
 
 namespace robomill::robot_path {
+namespace test_robot_along_path_cpp {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
@@ -774,9 +775,11 @@ TEST(RobotAlongPath, BandProcessMapsArcsToTheStraightCut) {
 }
 
 }  // namespace
+}  // namespace test_robot_along_path_cpp
 }  // namespace robomill::robot_path
 
 namespace robomill::robot_path {
+namespace test_robot_along_path_cpp {
 namespace {
 
 // The compensation's polyline (deflection_compensation.hpp): points are
@@ -1031,4 +1034,5 @@ TEST(DeflectionCompensation, ArcsGetTheirCentreAndRadiusMoved) {
 }
 
 }  // namespace
+}  // namespace test_robot_along_path_cpp
 }  // namespace robomill::robot_path

@@ -16,6 +16,8 @@
 #include "robomill/simulation/response_metrics.hpp"
 #include "robomill/simulation/simulator.hpp"
 
+namespace test_benchmark_chatter_cpp {
+
 namespace {
 
 using namespace robomill;
@@ -193,3 +195,5 @@ TEST(BenchmarkChatter, ProcessDampingStabilizesAsTheFdmBoundaryPredicts) {
 }
 
 }  // namespace
+
+}  // namespace test_benchmark_chatter_cpp

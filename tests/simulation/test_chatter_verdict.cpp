@@ -13,6 +13,8 @@
 #include "robomill/simulation/response_metrics.hpp"
 #include "robomill/simulation/simulator.hpp"
 
+namespace test_chatter_verdict_cpp {
+
 namespace {
 
 using namespace robomill;
@@ -187,3 +189,5 @@ TEST(ChatterVerdict, Issue20SlotThatSettlesIsStable) {
 }
 
 }  // namespace
+
+}  // namespace test_chatter_verdict_cpp

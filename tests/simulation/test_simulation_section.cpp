@@ -8,6 +8,8 @@
 #include "robomill/core/error.hpp"
 #include "robomill/job/job.hpp"
 
+namespace test_simulation_section_cpp {
+
 namespace {
 
 using namespace robomill;
@@ -68,3 +70,5 @@ TEST(SimulationSection, ErrorsNameTheField) {
 }
 
 }  // namespace
+
+}  // namespace test_simulation_section_cpp

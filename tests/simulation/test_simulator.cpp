@@ -13,6 +13,8 @@
 #include "robomill/simulation/response_metrics.hpp"
 #include "robomill/simulation/simulator.hpp"
 
+namespace test_simulator_cpp {
+
 namespace {
 
 using namespace robomill;
@@ -257,3 +259,5 @@ TEST(Simulator, NoForceFromNegativeChips) {
 }
 
 }  // namespace
+
+}  // namespace test_simulator_cpp

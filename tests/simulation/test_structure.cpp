@@ -7,6 +7,8 @@
 
 #include "robomill/simulation/structure.hpp"
 
+namespace test_structure_cpp {
+
 namespace {
 
 using namespace robomill;
@@ -100,3 +102,5 @@ TEST(Structure, RejectsNonPhysicalFixations) {
 }
 
 }  // namespace
+
+}  // namespace test_structure_cpp

@@ -10,6 +10,8 @@
 #include "benchmark_1dof.hpp"
 #include "robomill/stability/lobes.hpp"
 
+namespace test_boundary_search_cpp {
+
 namespace {
 
 using namespace robomill;
@@ -101,3 +103,5 @@ TEST(BoundarySearch, NoUnstableDepthBelowTheLimitInADenseMap) {
 }
 
 }  // namespace
+
+}  // namespace test_boundary_search_cpp

@@ -9,6 +9,8 @@
 #include "robomill/stability/floquet.hpp"
 #include "robomill/stability/lobes.hpp"
 
+namespace test_floquet_cpp {
+
 namespace {
 
 using namespace robomill;
@@ -136,3 +138,5 @@ TEST(Floquet, TimeInvariantCouplingReproducesTheTurningLimit) {
 }
 
 }  // namespace
+
+}  // namespace test_floquet_cpp

@@ -19,6 +19,8 @@
 #include "benchmark_1dof.hpp"
 #include "robomill/stability/floquet.hpp"
 
+namespace test_floquet_reference_cpp {
+
 namespace {
 
 using namespace robomill;
@@ -167,3 +169,5 @@ TEST(FloquetReference, FastSolverMatchesTheDenseStepByStepProduct) {
 }
 
 }  // namespace
+
+}  // namespace test_floquet_reference_cpp

@@ -14,6 +14,8 @@
 #include "robomill/stability/multipoint.hpp"
 #include "robomill/stability/regenerative_model.hpp"
 
+namespace test_multipoint_cpp {
+
 namespace {
 
 using namespace robomill;
@@ -137,3 +139,5 @@ TEST(Multipoint, LaterEntryShortensTheContactAndRaisesTheLimit) {
 }
 
 }  // namespace
+
+}  // namespace test_multipoint_cpp

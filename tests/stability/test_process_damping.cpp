@@ -9,6 +9,8 @@
 
 #include "robomill/stability/process_damping.hpp"
 
+namespace test_process_damping_cpp {
+
 namespace rs = robomill::stability;
 namespace rd = robomill::dynamics;
 namespace rc = robomill::cutting;
@@ -268,3 +270,5 @@ TEST(MultiMode, RobotModesGovernTheProcessDampedEnvelopeAtLowSpeed) {
       damped[0].chatter_frequency_hz, plain[1].depth_limit_m * 1e3, damped[1].depth_limit_m * 1e3,
       damped[1].mode, damped[1].chatter_frequency_hz);
 }
+
+}  // namespace test_process_damping_cpp

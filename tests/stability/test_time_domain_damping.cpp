@@ -10,6 +10,8 @@
 #include "robomill/stability/lobes.hpp"
 #include "robomill/stability/process_damping.hpp"
 
+namespace test_time_domain_damping_cpp {
+
 namespace {
 
 using namespace robomill;
@@ -60,3 +62,5 @@ TEST(TimeDomainDamping, RaisesLowSpeedLimitsFarMoreThanHighSpeedOnes) {
 }
 
 }  // namespace
+
+}  // namespace test_time_domain_damping_cpp

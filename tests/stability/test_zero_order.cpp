@@ -10,6 +10,8 @@
 
 #include "robomill/stability/zero_order.hpp"
 
+namespace test_zero_order_cpp {
+
 namespace rs = robomill::stability;
 namespace rd = robomill::dynamics;
 namespace rc = robomill::cutting;
@@ -356,3 +358,5 @@ TEST(ZeroOrder, BullNoseLimitsAreTheFlatAndTheBallLobes) {
       "%.2e at r_c 0.0001 mm); R - 0.001 mm vs ball %.2e (x-y), %.2e (with z)\n",
       flat_planar, flat_spatial, flat_spatial_sharper, ball_planar, ball_spatial);
 }
+
+}  // namespace test_zero_order_cpp

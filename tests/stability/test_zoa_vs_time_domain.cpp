@@ -10,6 +10,8 @@
 #include "robomill/stability/lobes.hpp"
 #include "robomill/stability/zero_order.hpp"
 
+namespace test_zoa_vs_time_domain_cpp {
+
 namespace {
 
 using namespace robomill;
@@ -128,3 +130,5 @@ TEST(ZeroOrderVersusFdm, TwoToothSlotWithItsMeanCouplingIsTheZeroOrderDiagram) {
 }
 
 }  // namespace
+
+}  // namespace test_zoa_vs_time_domain_cpp

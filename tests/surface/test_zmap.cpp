@@ -9,6 +9,8 @@
 #include "robomill/surface/roughness.hpp"
 #include "robomill/surface/topography.hpp"
 
+namespace test_zmap_cpp {
+
 namespace {
 
 using namespace robomill;
@@ -359,3 +361,5 @@ TEST(SurfaceZMap, ZigzagLeavesTheSameScallops) {
 }
 
 }  // namespace
+
+}  // namespace test_zmap_cpp

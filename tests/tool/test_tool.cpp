@@ -5,6 +5,8 @@
 
 #include "robomill/tool/tool.hpp"
 
+namespace test_tool_cpp {
+
 namespace {
 
 using robomill::tool::discretize_edge;
@@ -183,3 +185,5 @@ TEST(EdgeDiscretization, BullNoseCornerThenCylinder) {
 }
 
 }  // namespace
+
+}  // namespace test_tool_cpp

@@ -14,6 +14,8 @@
 #include "robomill/io/program_readers.hpp"
 #include "robomill/toolpath/program.hpp"
 
+namespace test_apt_reader_cpp {
+
 namespace {
 
 using Eigen::Vector3d;
@@ -658,3 +660,5 @@ TEST(AptReader, TooLargeIsRefusedBeforeParsing) {
 }
 
 }  // namespace
+
+}  // namespace test_apt_reader_cpp

@@ -24,6 +24,8 @@
 
 #include "robomill/toolpath/cutter_engagement.hpp"
 
+namespace test_cutter_engagement_cpp {
+
 namespace {
 
 using namespace robomill::toolpath;
@@ -327,3 +329,5 @@ TEST(CutterEngagement, PlungeEngagesTheWholeTurn) {
 }
 
 }  // namespace
+
+}  // namespace test_cutter_engagement_cpp

@@ -18,6 +18,8 @@
 #include "robomill/toolpath/cutter_shape.hpp"
 #include "robomill/toolpath/dexel_stock.hpp"
 
+namespace test_dexel_stock_cpp {
+
 namespace {
 
 using namespace robomill::toolpath;
@@ -364,3 +366,5 @@ TEST(DexelStock, TiltedRemovalDoesNotDependOnWhereTheBoxSits) {
 }
 
 }  // namespace
+
+}  // namespace test_dexel_stock_cpp

@@ -20,6 +20,8 @@
 #include "robomill/io/program_readers.hpp"
 #include "toolpath/rs274_oracle.hpp"
 
+namespace test_gcode_oracle_cpp {
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -75,3 +77,5 @@ TEST(GcodeOracleCorpus, HoldsAtLeastTwentyFivePrograms) {
 }
 
 }  // namespace
+
+}  // namespace test_gcode_oracle_cpp

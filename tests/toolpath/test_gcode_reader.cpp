@@ -16,6 +16,8 @@
 #include "robomill/core/error.hpp"
 #include "robomill/io/program_readers.hpp"
 
+namespace test_gcode_reader_cpp {
+
 namespace {
 
 using robomill::InputError;
@@ -487,3 +489,5 @@ TEST(GcodeReader, RefusesProgramsAboveMaxBytes) {
 }
 
 }  // namespace
+
+}  // namespace test_gcode_reader_cpp

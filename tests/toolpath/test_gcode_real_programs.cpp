@@ -53,6 +53,8 @@
 #include "robomill/io/program_readers.hpp"
 #include "toolpath/rs274_oracle.hpp"
 
+namespace test_gcode_real_programs_cpp {
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -612,3 +614,5 @@ TEST(GcodeOthers, CutterCompensationAndMissingFeedAreRefused) {
 }
 
 }  // namespace
+
+}  // namespace test_gcode_real_programs_cpp

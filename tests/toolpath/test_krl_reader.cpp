@@ -13,6 +13,8 @@
 #include "robomill/io/program_readers.hpp"
 #include "robomill/toolpath/program.hpp"
 
+namespace test_krl_reader_cpp {
+
 namespace {
 
 using Eigen::Vector3d;
@@ -522,3 +524,5 @@ TEST(ProgramReaders, AptAndKrlPocketsAgree) {
 }
 
 }  // namespace
+
+}  // namespace test_krl_reader_cpp

@@ -11,6 +11,7 @@
 #include "toolpath/program_fixtures.hpp"
 
 namespace robomill::toolpath {
+namespace test_program_air_cpp {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
@@ -178,4 +179,5 @@ TEST(ProgramAir, MoveNearBoxClipsStraightMovesExactly) {
 }
 
 }  // namespace
+}  // namespace test_program_air_cpp
 }  // namespace robomill::toolpath

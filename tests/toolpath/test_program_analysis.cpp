@@ -21,6 +21,7 @@
 #include "toolpath/program_fixtures.hpp"
 
 namespace robomill::toolpath {
+namespace test_program_analysis_cpp {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
@@ -491,4 +492,5 @@ TEST(ProgramAnalysis, SamePocketInThreeDialectsGivesTheSameSamples) {
 }
 
 }  // namespace
+}  // namespace test_program_analysis_cpp
 }  // namespace robomill::toolpath

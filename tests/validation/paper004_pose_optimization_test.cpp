@@ -28,6 +28,8 @@
 #include "support/case004.hpp"
 #include "support/validation_record.hpp"
 
+namespace paper004_pose_optimization_test_cpp {
+
 namespace {
 
 using namespace robomill;
@@ -111,3 +113,5 @@ TEST(Paper004, OptimumIsAtLeastAsGoodAsThePapersAndSeedsAgree) {
 }
 
 }  // namespace
+
+}  // namespace paper004_pose_optimization_test_cpp

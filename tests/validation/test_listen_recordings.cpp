@@ -29,6 +29,8 @@
 #include "robomill/monitoring/recording_analysis.hpp"
 #include "support/validation_record.hpp"
 
+namespace test_listen_recordings_cpp {
+
 namespace {
 
 using namespace robomill;
@@ -113,3 +115,5 @@ TEST(ListenRecordings, KhasawnehTurningLabels) {
 }
 
 }  // namespace
+
+}  // namespace test_listen_recordings_cpp

@@ -61,6 +61,8 @@
 #include "simulated_cuts.hpp"
 #include "support/validation_record.hpp"
 
+namespace test_listen_synthetic_cpp {
+
 namespace {
 
 using namespace robomill;
@@ -427,3 +429,5 @@ TEST(ListenSynthetic, WavAndCsvGiveTheSameVerdict) {
 }
 
 }  // namespace
+
+}  // namespace test_listen_synthetic_cpp

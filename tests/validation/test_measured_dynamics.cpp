@@ -33,6 +33,8 @@
 #include "robomill/stability/zero_order.hpp"
 #include "support/validation_record.hpp"
 
+namespace test_measured_dynamics_cpp {
+
 namespace {
 
 using namespace robomill;
@@ -157,3 +159,5 @@ TEST(MeasuredDynamicsPaper000, Table2FromTheBundledHammerTest) {
 }
 
 }  // namespace
+
+}  // namespace test_measured_dynamics_cpp

@@ -20,6 +20,8 @@
 #include "robomill/job/job.hpp"
 #include "support/validation_record.hpp"
 
+namespace test_paper001_surface_cpp {
+
 namespace {
 
 using namespace robomill;
@@ -215,3 +217,5 @@ TEST(Paper001Surface, PostureDependentVibration) {
 }
 
 }  // namespace
+
+}  // namespace test_paper001_surface_cpp

@@ -50,6 +50,8 @@
 #include "robomill/simulation/spectrum.hpp"
 #include "support/validation_record.hpp"
 
+namespace test_paper002_simulation_cpp {
+
 namespace {
 
 using namespace robomill;
@@ -313,3 +315,5 @@ TEST(Paper002, CaseAPhases) {
 }
 
 }  // namespace
+
+}  // namespace test_paper002_simulation_cpp

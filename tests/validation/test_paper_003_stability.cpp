@@ -30,6 +30,8 @@
 #include "robomill/stability/process_damping.hpp"
 #include "support/validation_record.hpp"
 
+namespace test_paper_003_stability_cpp {
+
 namespace {
 
 using namespace robomill;
@@ -196,3 +198,5 @@ TEST(Paper003, Table2SlotTestsAgainstTheCoupledDiagramAndTheEnvelope) {
 }
 
 }  // namespace
+
+}  // namespace test_paper_003_stability_cpp

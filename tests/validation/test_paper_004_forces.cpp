@@ -19,6 +19,8 @@
 #include "robomill/job/job.hpp"
 #include "support/validation_record.hpp"
 
+namespace test_paper_004_forces_cpp {
+
 namespace {
 
 using namespace robomill;
@@ -68,3 +70,5 @@ TEST(Paper004, Figure6ForceFundamentalIsTheToothPassingFrequency) {
 }
 
 }  // namespace
+
+}  // namespace test_paper_004_forces_cpp

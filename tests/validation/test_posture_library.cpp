@@ -40,6 +40,8 @@
 #include "robomill/robot/kinematics.hpp"
 #include "robomill/robot/robot_model.hpp"
 
+namespace test_posture_library_cpp {
+
 namespace {
 
 using namespace robomill;
@@ -145,3 +147,5 @@ TEST(PostureLibrary, HeldOutPosturesAgainstTheModel) {
 }
 
 }  // namespace
+
+}  // namespace test_posture_library_cpp

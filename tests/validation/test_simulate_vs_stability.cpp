@@ -61,6 +61,8 @@
 #include "simulated_cuts.hpp"
 #include "support/validation_record.hpp"
 
+namespace test_simulate_vs_stability_cpp {
+
 namespace {
 
 using namespace robomill;
@@ -322,3 +324,5 @@ TEST(SimulateVsStability, UnstableCutChattersAtThePredictedFrequency) {
 }
 
 }  // namespace
+
+}  // namespace test_simulate_vs_stability_cpp
