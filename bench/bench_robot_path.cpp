@@ -138,7 +138,7 @@ void BM_RobotFeedSchedule(benchmark::State& state) {
   const toolpath::Program& program = bench.program;
   const toolpath::Tooling& tooling = bench.tooling;
   const toolpath::ProgramAnalysisSettings& settings = bench.settings;
-  const robot_path::FeedLimits limits = analysis::feed_limits(*job.robot_path->feed_limits);
+  const robot_path::FeedLimits limits = *job.robot_path->feed_limits;
   int runs = 0;
   std::size_t changed = 0;
   for (auto _ : state) {

@@ -682,7 +682,7 @@ std::vector<io::FeedEdit> choose_feeds(const job::Job& job, const analysis::Robo
   std::vector<io::FeedEdit> feeds;
   if (job.robot_path && job.robot_path->feed_limits) {
     FeedDecision& decision = feed_decision.emplace();
-    decision.limits = analysis::feed_limits(*job.robot_path->feed_limits);
+    decision.limits = *job.robot_path->feed_limits;
     const toolpath::DexelStock stock = job_stock(job);
     robot_path::PathStabilitySettings no_limits = setup.stability;
     no_limits.enabled = false;  // the feed does not move the stable depth

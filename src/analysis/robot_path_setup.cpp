@@ -185,16 +185,4 @@ std::optional<RobotPathSetup> robot_path_setup(const job::Job& job, int threads)
   return setup;
 }
 
-robot_path::FeedLimits feed_limits(const job::RobotPathJobSettings::FeedLimits& job) {
-  robot_path::FeedLimits limits;
-  limits.force_max_n = job.force_max_n;
-  limits.torque_max_nm = job.torque_max_nm;
-  limits.deflection_max_m = job.deflection_max_m;
-  limits.joint_speed_max_rad_s = job.joint_speed_max_rad_s;
-  limits.feed_min_m_s = job.feed_min_m_s;
-  limits.feed_max_m_s = job.feed_max_m_s;
-  limits.job_line = job.line;
-  return limits;
-}
-
 }  // namespace robomill::analysis

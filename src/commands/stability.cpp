@@ -1,7 +1,10 @@
 // robomill stability JOB: the stability lobe diagram (DESIGN.md §3) by the
 // zero-order approximation or the semi-/full-discretization methods. The
 // diagram is analysis::stability_diagram's; this file writes it as sld.csv
-// (sld_envelope.csv, map.csv) and summary.json.
+// (sld_envelope.csv, map.csv) and summary.json. With an `uncertainty:`
+// section also analysis::stability_band's quantile lobes and chatter
+// probability (lobes_quantiles.csv, chatter_probability.csv and
+// summary.json's "uncertainty", issue 33).
 
 #include <fmt/format.h>
 
@@ -10,6 +13,7 @@
 #include <iostream>
 #include <numbers>
 
+#include "robomill/analysis/stability_band.hpp"
 #include "robomill/analysis/stability_diagram.hpp"
 #include "robomill/commands/commands.hpp"
 #include "robomill/core/constants.hpp"
@@ -114,10 +118,63 @@ nlohmann::json deformation_summary(const analysis::StabilityDiagram& diagram) {
   return deformation;
 }
 
+/// The band of the uncertain inputs (issue 33): lobes_quantiles.csv (one
+/// row per speed), chatter_probability.csv (speed-major: every depth of one
+/// speed, then the next speed, as map.csv) and summary.json's
+/// "uncertainty".
+void add_stability_band(CommandResult& result, const analysis::StabilityBand& band) {
+  io::CsvTable lobes({"spindle_rpm", "depth_limit_q05_mm", "depth_limit_q50_mm",
+                      "depth_limit_q95_mm", "depth_limit_nominal_mm"});
+  io::CsvTable probability({"spindle_rpm", "depth_mm", "p_chatter", "p_chatter_se"});
+  for (std::size_t s = 0; s < band.speeds_rad_s.size(); ++s) {
+    const double rpm = band.speeds_rad_s[s] * kRpmPerRadS;
+    lobes.add_row({rpm, band.q05_m[s].value * 1e3, band.q50_m[s].value * 1e3,
+                   band.q95_m[s].value * 1e3, band.nominal_limit_m[s] * 1e3});
+    for (std::size_t d = 0; d < band.depths_m.size(); ++d) {
+      const auto row = static_cast<Eigen::Index>(d);
+      const auto column = static_cast<Eigen::Index>(s);
+      probability.add_row({rpm, band.depths_m[d] * 1e3, band.p_chatter(row, column),
+                           band.p_chatter_se(row, column)});
+    }
+  }
+  nlohmann::json pockets = nlohmann::json::array();
+  for (const analysis::RobustPocket& p : band.robust_pockets) {
+    pockets.push_back({{"spindle_rpm", p.spindle_rad_s * kRpmPerRadS},
+                       {"depth_limit_q05_mm", p.depth_limit_q05_m * 1e3}});
+  }
+  result.summary["uncertainty"] = {
+      {"draws", band.draw_count},
+      {"source", band.draws.source},
+      {"variables", band.draws.names},
+      {"depth_limit_q05_min_mm", band.q05_min_m * 1e3},
+      {"depth_limit_q05_min_spindle_rpm", band.q05_min_spindle_rad_s * kRpmPerRadS},
+      {"depth_limit_q95_max_mm", band.q95_max_m * 1e3},
+      {"depth_limit_q95_max_spindle_rpm", band.q95_max_spindle_rad_s * kRpmPerRadS},
+      {"robust_pockets", pockets},
+      {"elapsed_s", band.elapsed_s}};
+  result.tables.emplace_back("lobes_quantiles", std::move(lobes));
+  result.tables.emplace_back("chatter_probability", std::move(probability));
+  result.message += fmt::format(
+      "  uncertainty: {} draws ({}) in {:.3f} s; 5 % lobe from {:.3f} mm (at {:.0f} "
+      "rpm), 95 % lobe up to {:.3f} mm\n",
+      band.draw_count, band.draws.source, band.elapsed_s, band.q05_min_m * 1e3,
+      band.q05_min_spindle_rad_s * kRpmPerRadS, band.q95_max_m * 1e3);
+  if (!band.robust_pockets.empty()) {
+    const analysis::RobustPocket& best = band.robust_pockets.front();
+    result.message +=
+        fmt::format("  robust pocket: {:.0f} rpm, 95 % of the draws stable to {:.3f} mm\n",
+                    best.spindle_rad_s * kRpmPerRadS, best.depth_limit_q05_m * 1e3);
+  }
+}
+
 }  // namespace
 
 CommandResult compute_stability(const job::Job& job, int threads) {
-  return stability_result(job, analysis::stability_diagram(job, threads));
+  const analysis::StabilityDiagram diagram = analysis::stability_diagram(job, threads);
+  CommandResult result = stability_result(job, diagram);
+  if (job.uncertainty)
+    add_stability_band(result, analysis::stability_band(job, diagram, threads));
+  return result;
 }
 
 CommandResult stability_result(const job::Job& job, const analysis::StabilityDiagram& diagram) {

@@ -310,4 +310,55 @@ void apply_override(YAML::Node& root, const Override& override_, Provenance& pro
   provenance.mark_overridden(parent);
 }
 
+FoundNode find_node(const YAML::Node& root, std::string_view path) {
+  FoundNode found;
+  const KeyPath split = split_key_path(path);
+  if (split.error_at) {
+    found.problem = !split.negative_index.empty()
+                        ? "list indices count from 0, got " + split.negative_index
+                        : std::string(
+                              "is not a key path; expected dotted names such as "
+                              "dynamics.modes[0].k or cutting.Ktc");
+    return found;
+  }
+  YAML::Node current = root;
+  for (const PathStep& step : split.steps) {
+    if (step.bracket || (step.digits && current.IsSequence())) {
+      if (!current.IsSequence()) {
+        found.problem = "indexes " + (found.path.empty() ? std::string("the job") : found.path) +
+                        ", which is " + describe_node(current) + ", not a list";
+        return found;
+      }
+      if (step.index >= current.size()) {
+        found.problem = fmt::format("index {} is out of range: {} has {}", step.text, found.path,
+                                    entries(current.size()));
+        return found;
+      }
+      std::size_t position = 0;
+      for (auto it = current.begin(); it != current.end(); ++it, ++position) {
+        if (position == step.index) {
+          current.reset(*it);
+          break;
+        }
+      }
+      found.path += "[" + std::to_string(step.index) + "]";
+      continue;
+    }
+    const std::string next = found.path.empty() ? step.text : found.path + "." + step.text;
+    std::optional<YAML::Node> child =
+        current.IsMap() ? map_child(current, step.text) : std::optional<YAML::Node>();
+    if (!current.IsMap() || !child || child->IsNull()) {
+      found.problem = current.IsMap() ? "the job has no " + next
+                                      : (found.path.empty() ? std::string("the job") : found.path) +
+                                            " is " + describe_node(current) + ", not a section";
+      found.path = next;
+      return found;
+    }
+    current.reset(*child);
+    found.path = next;
+  }
+  found.node = current;
+  return found;
+}
+
 }  // namespace robomill::job::detail

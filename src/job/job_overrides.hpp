@@ -44,4 +44,14 @@ void guard_input(std::string_view text, const std::string& source);
 /// index), recording in `provenance` that the value came from --set.
 void apply_override(YAML::Node& root, const Override& override_, Provenance& provenance);
 
+/// What a key path (as --set writes it) leads to in the YAML tree, found the
+/// way apply_override walks it but creating nothing (the `uncertainty:`
+/// section's paths).
+struct FoundNode {
+  std::optional<YAML::Node> node;  ///< the node at the path; nullopt when it leads nowhere
+  std::string path;                ///< the path in the reader's bracket form, as far as walked
+  std::string problem;             ///< why it leads nowhere; "" when found
+};
+FoundNode find_node(const YAML::Node& root, std::string_view path);
+
 }  // namespace robomill::job::detail

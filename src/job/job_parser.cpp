@@ -16,6 +16,7 @@
 #include <fstream>
 #include <iterator>
 #include <limits>
+#include <memory>
 #include <numbers>
 #include <optional>
 #include <sstream>
@@ -35,6 +36,7 @@
 #include "job_parser_stability.hpp"
 #include "job_parser_surface.hpp"
 #include "job_parser_toolpath.hpp"
+#include "job_parser_uncertainty.hpp"
 #include "quantity_fields.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/core/text.hpp"
@@ -175,6 +177,7 @@ Job read_job(const YAML::Node& root_node, const std::filesystem::path& source,
   detail::read_surface(root, job);     // 001 §2.4 (job_parser_surface.cpp)
   detail::read_toolpath(root, job);    // program and stock (job_parser_toolpath.cpp)
   detail::read_monitoring(root, job);  // recordings (job_parser_monitoring.cpp)
+  detail::read_uncertainty(root, root_node, job);  // issue 33 (job_parser_uncertainty.cpp)
   job.output = read_output(root);
   root.finish();
   return job;
@@ -214,7 +217,12 @@ Job parse_job(std::string_view yaml_text, const std::filesystem::path& source_na
     Provenance provenance;
     for (const Override& override_ : overrides)
       detail::apply_override(root, override_, provenance);
-    return read_job(root, source_name, provenance);
+    Job job = read_job(root, source_name, provenance);
+    // What rebuilds the job with more overrides (the draws of uncertainty:).
+    job.yaml_text = std::make_shared<const std::string>(text);
+    job.overrides = overrides;
+    detail::check_uncertainty_round_trip(job);
+    return job;
   } catch (const YAML::Exception& error) {
     // The reader avoids conversions that throw; this is a safety net so that
     // a yaml-cpp surprise is still reported as bad input, not as a crash.

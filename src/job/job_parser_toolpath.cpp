@@ -190,7 +190,7 @@ void read_robot_path(SectionReader& root, Job& job) {
   if (auto limits = r.section("feed_limits")) {
     limits->allow_schema("robot_path.feed_limits");
     RobotPathJobSettings::FeedLimits l;
-    l.line = limits->line();
+    l.job_line = limits->line();
     const QuantityField feed = field(dimensions::speed, kMm / 60.0, "mm/min", kPositive);
     l.force_max_n =
         limits->quantity_or("force_max", field(dimensions::force, 1.0, "N", kPositive), 0.0);

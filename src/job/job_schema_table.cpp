@@ -77,6 +77,8 @@ constexpr Section kSections[] = {
   {"recording", "A recorded cut for `robomill listen` (docs/monitoring.md): sound, acceleration, velocity, displacement or force, from a WAV/FLAC/AIFF, MATLAB, CSV or UFF58 file. Needs a spindle speed (`process.spindle`, or `spindle` here) and the teeth (`tool.teeth` or `listen.teeth`). Give `recording` or `recordings`, not both."},
   {"recordings[]", "One of several recorded cuts for `robomill listen`, each judged on its own (a row of recordings.csv); the keys of `recording`, with its own `spindle`, `depth` and `note`."},
   {"listen", "How `robomill listen` judges recordings (docs/monitoring.md): the detector's thresholds, lines set aside, and the spindle range of the advice."},
+  {"uncertainty", "The job's uncertain inputs (docs/uncertainty.md, \"From a job\"): variables that set job fields, drawn `samples` times from their distributions (or read from a `posterior` file), each draw validated as a job. Left empty (or `--set uncertainty=null`) it is the nominal job."},
+  {"uncertainty.variables[]", "One uncertain input: the job field(s) it sets and its distribution. With `mode: value` the draw is the field's value and the parameters are in the field's unit (bare numbers in the unit the field reads them in, or with a unit of its dimension); with `mode: scale` it is a dimensionless factor (bare numbers) multiplying each field's value. Each family takes only its own parameters."},
 };
 
 constexpr Field kFields[] = {
@@ -105,6 +107,7 @@ constexpr Field kFields[] = {
   {"job", "recording", K::map, "", "", "", "by listen", "A recorded cut: see `recording`."},
   {"job", "recordings", K::list, "", "", "", "by listen", "Several recorded cuts: see `recordings[]`."},
   {"job", "listen", K::map, "", "", "", "", "The recording detector's settings: see `listen`."},
+  {"job", "uncertainty", K::map, "", "", "", "", "Uncertain inputs and their draws: see `uncertainty`."},
 
   // --- tool
   {"tool", "type", K::choice, "", "flat, ball, bull", "flat", "", "Cylindrical helical end mill, ball-end mill (001 Eq 1-3), or bull-nose (torus) end mill: a flat end rounded into the side by a corner of radius `corner_radius` (001 Eq 1-3 with the corner's circle)."},
@@ -488,6 +491,24 @@ constexpr Field kFields[] = {
   {"atlas.speeds", "from", K::quantity, "rpm", "> 0", "", "yes", "Lowest spindle speed."},
   {"atlas.speeds", "to", K::quantity, "rpm", "> from", "from (count 1)", "when count > 1", "Highest spindle speed."},
   {"atlas.speeds", "count", K::integer, "", "1 … 100 000", "", "yes", "Number of speeds."},
+
+  // --- uncertainty
+  {"uncertainty", "variables", K::list, "", "non-empty; names unique; each field set by one variable", "", "yes", "The uncertain inputs: see `uncertainty.variables[]`."},
+  {"uncertainty", "samples", K::integer, "", "1 … 10⁷", "1000", "", "Number of draws (Sobol: a power of two keeps the points best balanced)."},
+  {"uncertainty", "seed", K::integer, "", "0 … 2 147 483 647", "1", "", "Seed of the Sobol shift or of the random points: the same seed gives the same draws."},
+  {"uncertainty", "sampling", K::choice, "", "sobol, random", "sobol", "", "Randomly shifted Sobol points (quasi-random) or independent pseudo-random points."},
+  {"uncertainty", "correlation", K::map, "", "by names, each pair once: `{a: {b: 0.6}}`; positive definite", "none (independent)", "", "Correlations on the normal scale (Gaussian copula), `first: {second: rho}` with rho in [-1, 1]; unlisted pairs 0."},
+  {"uncertainty", "posterior", K::text, "", "a CSV file: a header of the variables' names, a row per draw", "", "", "Draws read from a file (relative to the job file) instead of drawn: value variables in SI, scale variables as factors; the distributions, samples, seed and sampling are then not used."},
+  {"uncertainty.variables[]", "name", K::text, "", "letters, digits and _, not starting with a digit", "", "yes", "The variable's name in results and posterior files."},
+  {"uncertainty.variables[]", "path", K::variant, "", "a key path or a list of them: number fields of this job", "", "yes", "The field(s) the variable sets, in `--set` syntax with list indices (`dynamics.modes[0].k`, `robot.joint_stiffness[2]`); with `mode: scale` a list field (`robot.joint_stiffness`) means each of its entries. Inside `[...]` or `{...}` write `dynamics.modes.0.k` or quote the path."},
+  {"uncertainty.variables[]", "mode", K::choice, "", "value, scale", "value", "", "value: the draw is the field's value; scale: a factor (median 1) multiplying each field's own value."},
+  {"uncertainty.variables[]", "distribution", K::choice, "", "normal, lognormal, uniform, truncated_normal", "", "unless posterior", "The family (docs/uncertainty.md §1)."},
+  {"uncertainty.variables[]", "mean", K::quantity, "", "the field's unit (scale: a factor)", "the field's value (scale: 1)", "", "normal, truncated_normal: the (untruncated) normal's mean. With several fields, their common value."},
+  {"uncertainty.variables[]", "sd", K::quantity, "", "> 0; absolute, or `12 %` of the mean", "", "normal, truncated_normal", "The (untruncated) normal's standard deviation."},
+  {"uncertainty.variables[]", "median", K::quantity, "", "> 0; the field's unit (scale: a factor)", "the field's value (scale: 1)", "", "lognormal: the median exp(E[ln X])."},
+  {"uncertainty.variables[]", "sigma", K::quantity, "", "> 0, a bare number", "", "lognormal", "The standard deviation of ln X (0.22 is about ±25 %)."},
+  {"uncertainty.variables[]", "min", K::quantity, "", "< max; the field's unit (scale: a factor)", "", "uniform; truncated_normal: min or max", "The lowest value."},
+  {"uncertainty.variables[]", "max", K::quantity, "", "> min; the field's unit (scale: a factor)", "", "uniform; truncated_normal: min or max", "The highest value."},
 };
 // clang-format on
 

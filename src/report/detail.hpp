@@ -123,6 +123,21 @@ void toolpath_figures(const Outputs& outputs, Content& content);
 /// `identify-cutting` (the identified law against the measured forces)
 /// (figures_cutting.cpp).
 void forces_figures(const Outputs& outputs, Content& content);
+/// `stability` with an uncertainty: section: the quantile band over the
+/// nominal lobe and the chatter-probability map (lobes_quantiles.csv,
+/// chatter_probability.csv; figures_uncertainty.cpp). Nothing without them.
+void stability_band_figures(const Outputs& outputs, Content& content);
+/// A map of `value` over the position columns `coords` (the first two that
+/// vary form the map; any further varying one becomes buttons). Rows whose
+/// `mask` column is 0 (unreachable) are left blank. One varying coordinate
+/// gives a line; none gives no figure (figures.cpp).
+std::optional<Figure> grid_map(const Table& t, const std::vector<std::string>& coords,
+                               const std::string& value, const std::string& title,
+                               const std::string& mask = "reachable");
+/// The job's cutting tests (summary.json's experiments) drawn on a figure of
+/// spindle speed and depth: green circles stable, red crosses chatter
+/// (figures.cpp).
+void experiments_overlay(const Outputs& outputs, Figure& figure);
 void simulate_figures(const Outputs& outputs, Content& content);
 void deflection_figures(const Outputs& outputs, Content& content);
 void identify_cutting_figures(const Outputs& outputs, Content& content);

@@ -108,13 +108,11 @@ std::string level_label(const std::string& column, double value) {
   return column_quantity(column) + " = " + display(value) + (unit.empty() ? "" : " " + unit);
 }
 
-/// A map of `value` over the position columns `coords` (the first two that
-/// vary form the map; any further varying one becomes buttons). Rows whose
-/// `mask` column is 0 (unreachable) are left blank. One varying coordinate
-/// gives a line; none gives no figure.
+}  // namespace
+
 std::optional<Figure> grid_map(const Table& t, const std::vector<std::string>& coords,
                                const std::string& value, const std::string& title,
-                               const std::string& mask = "reachable") {
+                               const std::string& mask) {
   if (!t.has(value) || t.rows() == 0)
     return std::nullopt;
   std::vector<double> z = t.numbers(value);
@@ -222,6 +220,8 @@ std::optional<Figure> grid_map(const Table& t, const std::vector<std::string>& c
   return figure;
 }
 
+namespace {
+
 // ------------------------------------------------------------ FRFs
 
 struct Curve {
@@ -314,6 +314,8 @@ Figure bode(const std::string& title, const std::vector<Curve>& curves,
 
 // ------------------------------------------------------------ commands
 
+}  // namespace
+
 void experiments_overlay(const Outputs& o, Figure& f) {
   const json* tests = nullptr;
   if (o.summary.contains("experiments") && o.summary["experiments"].is_object() &&
@@ -343,6 +345,8 @@ void experiments_overlay(const Outputs& o, Figure& f) {
   }
   f.caption += " Markers: the job's cutting tests (green circles stable, red crosses chatter).";
 }
+
+namespace {
 
 void stability(const Outputs& o, Content& c) {
   const auto sld = o.table("sld.csv", c, false);
@@ -411,6 +415,7 @@ void stability(const Outputs& o, Content& c) {
       c.figures.push_back(std::move(*m));
     }
   }
+  stability_band_figures(o, c);
 }
 
 void fit_modes(const Outputs& o, Content& c) {

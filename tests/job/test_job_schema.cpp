@@ -171,6 +171,28 @@ recordings:
      signal: displacement, scale: 1e-3, start: 0 s, duration: 2 s, ignore: [50 Hz],
      ignore_width: 1 Hz, spindle: 425 rpm, depth: 0.5 mm, note: first}
 )",
+    // Uncertain inputs: every key of uncertainty: and of its variables.
+    R"(name: kitchen sink 6
+dynamics:
+  modes:
+    - {direction: x, fn: 2060 Hz, zeta: 2.4 %, k: 8.1e6 N/m}
+    - {direction: y, fn: 2150 Hz, zeta: 2.1 %, k: 9.3e6 N/m}
+cutting: {law: linear, Ktc: 855 N/mm^2, Krc: 290 N/mm^2}
+uncertainty:
+  samples: 512
+  seed: 3
+  sampling: random
+  posterior: posterior.csv
+  variables:
+    - {name: k_tip, path: [dynamics.modes.0.k, dynamics.modes.1.k], mode: scale,
+       distribution: lognormal, median: 1, sigma: 0.2}
+    - {name: zeta_x, path: dynamics.modes.0.zeta, mode: value, distribution: normal,
+       mean: 2.4 %, sd: 10 %}
+    - {name: ktc, path: cutting.Ktc, distribution: truncated_normal, mean: 855, sd: 90, min: 0,
+       max: 2000}
+    - {name: krc, path: cutting.Krc, distribution: uniform, min: 250, max: 330}
+  correlation: {k_tip: {zeta_x: -0.3}}
+)",
 };
 
 TEST(JobSchema, ExamplesAndKitchenSinksReadEveryField) {

@@ -511,6 +511,11 @@ std::vector<ListCase> list_cases() {
      [](const Job& j) { EXPECT_NEAR(j.stock->min_m.x(), -0.001, 1e-15); }},
     {"stock.box.max", "toolpath_pocket_gcode.yaml", {}, "stock.box.max.0=61",
      [](const Job& j) { EXPECT_NEAR(j.stock->max_m.x(), 0.061, 1e-15); }},
+    {"uncertainty.variables", "uncertainty_stability.yaml", {}, "uncertainty.variables.0.sigma=0.3",
+     [](const Job& j) {
+       const auto& p = std::get<robomill::uncertainty::Lognormal>(*j.uncertainty->variables.at(0).distribution);
+       EXPECT_EQ(p.sigma, 0.3);
+     }},
     {"recordings", "listen/benchmark_displacement_wav.yaml", {}, "recordings.0.depth=0.3 mm",
      [](const Job& j) { EXPECT_NEAR(*j.recordings.at(0).depth_m, 3e-4, 1e-15); }},
     {"recordings[].ignore", "listen/benchmark_displacement_wav.yaml", {"recordings.0.ignore=[100 Hz]"},

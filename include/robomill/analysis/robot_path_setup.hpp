@@ -32,7 +32,4 @@ struct RobotPathSetup {
 /// structure that cannot be had at every posture).
 std::optional<RobotPathSetup> robot_path_setup(const job::Job& job, int threads);
 
-/// `robot_path.feed_limits` as the feed schedule takes them (SI already).
-robot_path::FeedLimits feed_limits(const job::RobotPathJobSettings::FeedLimits& job);
-
 }  // namespace robomill::analysis

@@ -4,8 +4,10 @@
 
 #include <Eigen/Geometry>
 #include <array>
+#include <cstdint>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -18,12 +20,16 @@
 #include "robomill/dynamics/modal_model.hpp"
 #include "robomill/io/program_readers.hpp"
 #include "robomill/io/recording.hpp"
+#include "robomill/job/units.hpp"
 #include "robomill/monitoring/recording_analysis.hpp"
 #include "robomill/planning/cutting_advice.hpp"
 #include "robomill/planning/pose_optimization.hpp"
 #include "robomill/robot/posture_interpolation.hpp"
 #include "robomill/robot/robot_description.hpp"
+#include "robomill/robot_path/feed_schedule.hpp"
 #include "robomill/tool/tool.hpp"
+#include "robomill/uncertainty/distribution.hpp"
+#include "robomill/uncertainty/draws.hpp"
 
 namespace robomill::job {
 
@@ -325,16 +331,9 @@ struct RobotPathJobSettings {
   /// down-milling wall (the model of `robomill deflection`).
   bool contact_deflection = false;
   /// `feed_limits:` — the caps `--optimize` keeps every line's feed under
-  /// (robot_path/feed_schedule.hpp); 0: no cap.
-  struct FeedLimits {
-    double force_max_n = 0.0;            ///< `force_max` (N): peak |F| on the tool
-    double torque_max_nm = 0.0;          ///< `torque_max` (N*m): peak spindle torque
-    double deflection_max_m = 0.0;       ///< `deflection_max` (um): |tool-tip deflection|
-    double joint_speed_max_rad_s = 0.0;  ///< `joint_speed_max` (deg/s): every joint
-    double feed_min_m_s = 0.0;           ///< `feed_min` (mm/min)
-    double feed_max_m_s = 0.0;           ///< `feed_max` (mm/min); 0: never faster than programmed
-    int line = 0;
-  };
+  /// (robot_path/feed_schedule.hpp: the schedule's own struct, SI, its
+  /// `job_line` the section's line; unset caps 0).
+  using FeedLimits = robot_path::FeedLimits;
   std::optional<FeedLimits> feed_limits;
   /// `offset:` — 004's steady-state offset at every sample
   /// (RobotPathSettings::offset); unset keys take the job's `optimize:`
@@ -377,6 +376,59 @@ struct ListenSettings {
 struct OutputSettings {
   std::string dir;  ///< empty: the command's default (out/<command>)
   bool csv = true, json = true, html = true;
+};
+
+/// `uncertainty:` — the job's uncertain inputs (issue 33; docs/uncertainty.md,
+/// "From a job"): variables that set job fields, each drawn from a
+/// distribution (uncertainty/distribution.hpp) or read from a posterior file,
+/// and how many draws are made, from which seed, by which points.
+struct UncertaintySettings {
+  /// One job field a variable sets, resolved against the job at parse time.
+  struct Target {
+    std::string path;         ///< in the reader's bracket form: "dynamics.modes[0].k"
+    double nominal_si = 0.0;  ///< the job's own value there, in SI (si_unit(dimension))
+    Dimension dimension;      ///< the field's dimension (the job schema's unit)
+    int line = 0;             ///< the line the path is written on (0: from --set)
+  };
+  /// What the drawn number is.
+  enum class Mode {
+    value,  ///< the field's value itself (SI)
+    scale   ///< a dimensionless factor (median 1) multiplying every target's nominal value
+  };
+  /// One uncertain input (`variables[]`).
+  struct Variable {
+    std::string name;             ///< `name`: unique, [A-Za-z_][A-Za-z0-9_]*
+    std::vector<Target> targets;  ///< `path`: one field or several, each set by this variable
+    Mode mode = Mode::value;      ///< `mode`
+    /// `distribution` and its parameters, resolved: in SI for mode value
+    /// (the job's value the default mean or median), factors for mode scale
+    /// (default mean or median 1). nullopt only with a posterior file.
+    std::optional<uncertainty::Distribution::Parameters> distribution;
+    int line = 0;  ///< the line of the variable's entry
+  };
+  std::vector<Variable> variables;  ///< `variables`, in the job's order (≥ 1)
+  int samples = 1000;               ///< `samples`: draws, ≥ 1
+  std::uint64_t seed = 1;           ///< `seed`
+  /// `sampling`: randomly shifted Sobol points (default) or pseudo-random ones.
+  uncertainty::DrawSettings::Sampling sampling = uncertainty::DrawSettings::Sampling::sobol;
+  /// `correlation` (by names) as a variables × variables matrix in the
+  /// variables' order, checked to be a correlation matrix
+  /// (uncertainty::correlation_factor); nullopt: independent variables.
+  std::optional<Eigen::MatrixXd> correlation;
+  /// `posterior`: a CSV of draws (one column per variable, named by it)
+  /// used instead of drawing; resolved against the job's folder; empty: none.
+  std::filesystem::path posterior;
+  int line = 0;              ///< the section's line
+  int correlation_line = 0;  ///< `correlation`'s line
+  int posterior_line = 0;    ///< `posterior`'s line
+};
+
+/// `--set key.path=value`: replaces (or adds) one field before validation.
+/// The value is read as YAML, so lists and quoted quantities work:
+/// `--set process.ae="2 mm"`, `--set forces.revolutions=3`.
+struct Override {
+  std::string path;
+  std::string value;
 };
 
 struct Job {
@@ -422,20 +474,18 @@ struct Job {
   /// spindle and depth) for `robomill listen` (docs/monitoring.md): at most
   /// one of the two; `recording` is held as the list's only entry.
   std::vector<io::RecordingSpec> recordings;
-  bool recordings_listed = false;        ///< written as `recordings:`
-  std::optional<ListenSettings> listen;  ///< `listen:`
+  bool recordings_listed = false;                  ///< written as `recordings:`
+  std::optional<ListenSettings> listen;            ///< `listen:`
+  std::optional<UncertaintySettings> uncertainty;  ///< `uncertainty:` (docs/uncertainty.md)
   OutputSettings output;
+  /// The YAML text the job was read from and the `--set` overrides it was
+  /// read with (set by parse_job and load_job): with more overrides they
+  /// rebuild the job (analysis/job_draws.hpp). nullptr for a Job built in code.
+  std::shared_ptr<const std::string> yaml_text;
+  std::vector<Override> overrides;
 
   /// Resolves a path written in the job relative to the job file's folder.
   std::filesystem::path resolve(const std::filesystem::path& relative) const;
-};
-
-/// `--set key.path=value`: replaces (or adds) one field before validation.
-/// The value is read as YAML, so lists and quoted quantities work:
-/// `--set process.ae="2 mm"`, `--set forces.revolutions=3`.
-struct Override {
-  std::string path;
-  std::string value;
 };
 
 /// Parses `key.path=value`; throws InputError naming `--set` when malformed.

@@ -1,0 +1,247 @@
+#include "robomill/analysis/stability_band.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <exception>
+#include <limits>
+#include <stdexcept>
+#include <string_view>
+
+#include "robomill/core/error.hpp"
+#include "robomill/core/parallel.hpp"
+#include "robomill/stability/lobes.hpp"
+
+namespace robomill::analysis {
+namespace {
+
+using BandSettings = job::StabilitySettings;
+
+/// A draw needs only the diagram the band is read from (primary()): the
+/// same diagram by the same method, without what the nominal run adds
+/// around it. A map's spectral radii are not propagated (mode: boundary);
+/// `modes: both` keeps the coupled diagram, its primary; with 000's
+/// deformation variants (time-domain methods on modes only) the primary is
+/// the traditional one, which is the multipoint diagram without process
+/// damping. The tests are compared once, on the nominal diagram.
+void keep_only_primary(job::Job& draw_job) {
+  BandSettings& s = *draw_job.stability;
+  s.mode = BandSettings::Mode::boundary;
+  if (s.modes == BandSettings::Modes::both)
+    s.modes = BandSettings::Modes::coupled;
+  const bool floquet_on_modes = s.method != BandSettings::Method::zoa &&
+                                draw_job.dynamics_source != job::Job::DynamicsSource::frf;
+  if (s.deformation && floquet_on_modes) {
+    s.deformation = false;
+    s.process_damping = BandSettings::Damping::none;
+  }
+  draw_job.experiments.clear();
+}
+
+/// "name = value, ..." of draw i, for messages.
+std::string band_draw_values(const JobDraws& draws, std::size_t i) {
+  std::string text;
+  const auto row = static_cast<Eigen::Index>(i);
+  for (std::size_t j = 0; j < draws.names.size(); ++j) {
+    text += fmt::format("{}{} = {:.6g}", j == 0 ? "" : ", ", draws.names[j],
+                        draws.values(row, static_cast<Eigen::Index>(j)));
+  }
+  return text;
+}
+
+/// An InputError's message without the "field (line N): " it starts with.
+std::string band_bare_message(const InputError& error) {
+  std::string prefix = error.field();
+  if (error.line() > 0)
+    prefix += " (line " + std::to_string(error.line()) + ")";
+  if (!prefix.empty())
+    prefix += ": ";
+  const std::string_view text = error.what();
+  return std::string(text.starts_with(prefix) ? text.substr(prefix.size()) : text);
+}
+
+/// The primary diagram of draw i (job_of_draw names the variable and the
+/// draw when the draw itself is refused; a diagram that refuses the drawn
+/// inputs is named here, with the draw's values).
+std::vector<StabilityLimit> draw_primary(const job::Job& job, const JobDraws& draws,
+                                         std::size_t i) {
+  job::Job draw_job = job_of_draw(job, draws, i);
+  keep_only_primary(draw_job);
+  const auto count = draws.values.rows();
+  try {
+    const StabilityDiagram diagram = stability_diagram(draw_job, 1);
+    return diagram.primary();
+  } catch (const InputError& e) {
+    throw InputError(e.field(), e.line(),
+                     fmt::format("uncertainty draw {} of {} ({}): {}", i + 1, count,
+                                 band_draw_values(draws, i), band_bare_message(e)));
+  } catch (const NumericalError& e) {
+    throw NumericalError(fmt::format("uncertainty draw {} of {} ({}): {}", i + 1, count,
+                                     band_draw_values(draws, i), e.what()));
+  }
+}
+
+/// Every draw's primary diagram, on up to `threads` threads. A failing draw
+/// stops the draws after it; the draws before it still run, so the error
+/// rethrown is the first failing draw's whatever the thread count.
+std::vector<std::vector<StabilityLimit>> all_draw_limits(const job::Job& job, const JobDraws& draws,
+                                                         int threads) {
+  const auto n = static_cast<std::size_t>(draws.values.rows());
+  std::vector<std::vector<StabilityLimit>> rows(n);
+  std::vector<std::exception_ptr> failures(n);
+  std::atomic<std::size_t> first_failure{n};
+  core::parallel_for(n, threads, [&](std::size_t i) {
+    if (i > first_failure.load())
+      return;
+    try {
+      rows[i] = draw_primary(job, draws, i);
+    } catch (...) {
+      failures[i] = std::current_exception();
+      std::size_t seen = first_failure.load();
+      while (i < seen && !first_failure.compare_exchange_weak(seen, i)) {
+      }
+    }
+  });
+  if (first_failure.load() < n)
+    std::rethrow_exception(failures[first_failure.load()]);
+  return rows;
+}
+
+/// The quantiles and the probability column of speed s (writes only that
+/// speed's entries).
+void band_summarize_speed(StabilityBand& band, std::size_t s) {
+  const auto column = static_cast<Eigen::Index>(s);
+  const auto n = static_cast<std::size_t>(band.draw_count);
+  std::vector<double> limits(n), for_fraction(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto row = static_cast<Eigen::Index>(i);
+    limits[i] = band.limits_m(row, column);
+    // Not limited up to depth_max: stable at every depth of the map.
+    for_fraction[i] =
+        band.limited(row, column) ? limits[i] : std::numeric_limits<double>::infinity();
+  }
+  constexpr std::array<double, 3> probabilities = {kBandLowerProbability, kBandMedianProbability,
+                                                   kBandUpperProbability};
+  const std::vector<uncertainty::Estimate> q =
+      uncertainty::empirical_quantiles(limits, probabilities);
+  band.q05_m[s] = q[0];
+  band.q50_m[s] = q[1];
+  band.q95_m[s] = q[2];
+  for (std::size_t d = 0; d < band.depths_m.size(); ++d) {
+    const uncertainty::Estimate p = uncertainty::fraction_below(for_fraction, band.depths_m[d]);
+    band.p_chatter(static_cast<Eigen::Index>(d), column) = p.value;
+    band.p_chatter_se(static_cast<Eigen::Index>(d), column) = p.standard_error;
+  }
+}
+
+/// The lowest 5 % and the highest 95 % quantile over the speeds.
+void band_find_extremes(StabilityBand& band) {
+  band.q05_min_m = std::numeric_limits<double>::infinity();
+  band.q95_max_m = -std::numeric_limits<double>::infinity();
+  for (std::size_t s = 0; s < band.speeds_rad_s.size(); ++s) {
+    if (band.q05_m[s].value < band.q05_min_m) {
+      band.q05_min_m = band.q05_m[s].value;
+      band.q05_min_spindle_rad_s = band.speeds_rad_s[s];
+    }
+    if (band.q95_m[s].value > band.q95_max_m) {
+      band.q95_max_m = band.q95_m[s].value;
+      band.q95_max_spindle_rad_s = band.speeds_rad_s[s];
+    }
+  }
+}
+
+}  // namespace
+
+std::vector<RobustPocket> robust_pockets(const std::vector<double>& speeds_rad_s,
+                                         const std::vector<uncertainty::Estimate>& lobe_m,
+                                         int max_count) {
+  if (speeds_rad_s.size() != lobe_m.size())
+    throw std::invalid_argument("robust_pockets: speeds and lobe differ in size");
+  std::vector<RobustPocket> pockets;
+  const std::size_t n = lobe_m.size();
+  // Runs of equal values (a flat top, e.g. draws stable to depth_max): a run
+  // above both neighbours (a range end counts as below) is one maximum.
+  for (std::size_t begin = 0; begin < n;) {
+    const double value = lobe_m[begin].value;
+    std::size_t end = begin + 1;
+    while (end < n && lobe_m[end].value == value)
+      ++end;
+    const bool above_left = begin == 0 || lobe_m[begin - 1].value < value;
+    const bool above_right = end == n || lobe_m[end].value < value;
+    if (above_left && above_right) {
+      const std::size_t middle = begin + (end - 1 - begin) / 2;
+      pockets.push_back({speeds_rad_s[middle], value, lobe_m[middle].standard_error});
+    }
+    begin = end;
+  }
+  // Deepest first; stable, so equal depths keep the lower speed first.
+  std::stable_sort(pockets.begin(), pockets.end(),
+                   [](const RobustPocket& a, const RobustPocket& b) {
+                     return a.depth_limit_q05_m > b.depth_limit_q05_m;
+                   });
+  if (pockets.size() > static_cast<std::size_t>(std::max(max_count, 0)))
+    pockets.resize(static_cast<std::size_t>(std::max(max_count, 0)));
+  return pockets;
+}
+
+StabilityBand stability_band(const job::Job& job, const StabilityDiagram& nominal, int threads) {
+  if (!job.uncertainty)
+    throw InputError("uncertainty", 0, "the band needs an uncertainty: section");
+  const std::vector<StabilityLimit>& primary = nominal.primary();
+  if (primary.empty()) {
+    throw InputError("stability", 0,
+                     "the nominal diagram has no limits to propagate the uncertainty through");
+  }
+  const auto start = std::chrono::steady_clock::now();
+  StabilityBand band;
+  band.draws = draw_job_inputs(job);
+  band.draw_count = static_cast<int>(band.draws.values.rows());
+  if (band.draw_count < 1)
+    throw InputError("uncertainty.samples", 0, "no draws to compute the band from");
+  for (const StabilityLimit& l : primary) {
+    band.speeds_rad_s.push_back(l.spindle_rad_s);
+    band.nominal_limit_m.push_back(l.depth_limit_m);
+  }
+  const std::size_t speeds = primary.size();
+  const auto speed_count = static_cast<Eigen::Index>(speeds);
+
+  const std::vector<std::vector<StabilityLimit>> rows = all_draw_limits(job, band.draws, threads);
+  band.limits_m.resize(band.draw_count, speed_count);
+  band.limited.resize(band.draw_count, speed_count);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    if (rows[i].size() != speeds) {
+      throw InputError("uncertainty", 0,
+                       fmt::format("draw {} gives {} spindle speeds, the nominal diagram {}: a "
+                                   "variable must not change stability.speeds",
+                                   i + 1, rows[i].size(), speeds));
+    }
+    for (std::size_t s = 0; s < speeds; ++s) {
+      const auto row = static_cast<Eigen::Index>(i);
+      const auto column = static_cast<Eigen::Index>(s);
+      band.limits_m(row, column) = rows[i][s].depth_limit_m;
+      band.limited(row, column) = rows[i][s].limited;
+    }
+  }
+
+  // The map's depths, as stability_diagram's spectral-radius map has them.
+  const BandSettings& settings = *job.stability;
+  band.depths_m = stability::linear_range(settings.depth_max_m / settings.depth_count,
+                                          settings.depth_max_m, settings.depth_count);
+  const auto depth_count = static_cast<Eigen::Index>(band.depths_m.size());
+  band.p_chatter.resize(depth_count, speed_count);
+  band.p_chatter_se.resize(depth_count, speed_count);
+  band.q05_m.resize(speeds);
+  band.q50_m.resize(speeds);
+  band.q95_m.resize(speeds);
+  core::parallel_for(speeds, threads, [&band](std::size_t s) { band_summarize_speed(band, s); });
+
+  band_find_extremes(band);
+  band.robust_pockets = robust_pockets(band.speeds_rad_s, band.q05_m);
+  band.elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return band;
+}
+
+}  // namespace robomill::analysis
