@@ -8,12 +8,16 @@
 #include <chrono>
 #include <exception>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string_view>
 
 #include "robomill/core/error.hpp"
 #include "robomill/core/parallel.hpp"
 #include "robomill/stability/lobes.hpp"
+#include "robomill/stability/regenerative_model.hpp"
+#include "robomill/stability/zero_order.hpp"
+#include "robomill/tool/tool.hpp"
 
 namespace robomill::analysis {
 namespace {
@@ -63,16 +67,41 @@ std::string band_bare_message(const InputError& error) {
   return std::string(text.starts_with(prefix) ? text.substr(prefix.size()) : text);
 }
 
+/// The A0 basis every draw shares (issue 33 deliverable 5: what does not
+/// change between draws is computed once): when the diagram is the
+/// zero-order one on modes and every variable sets coefficients or
+/// structure — a field under cutting., dynamics. or robot. — the tool, the
+/// process and so the cut's geometry are the nominal job's. Otherwise none,
+/// and each draw averages W itself.
+std::optional<stability::MeanCuttingStiffnessBasis> shared_cut_basis(const job::Job& job) {
+  if (job.stability->method != BandSettings::Method::zoa ||
+      job.dynamics_source == job::Job::DynamicsSource::frf)
+    return std::nullopt;
+  for (const job::UncertaintySettings::Variable& variable : job.uncertainty->variables) {
+    for (const job::UncertaintySettings::Target& target : variable.targets) {
+      const std::string_view path = target.path;
+      if (!path.starts_with("cutting.") && !path.starts_with("dynamics.") &&
+          !path.starts_with("robot."))
+        return std::nullopt;
+    }
+  }
+  // The modes play no part in A0 (W is the cut's alone); any will do.
+  const dynamics::ModalModel placeholder({dynamics::directional_mode(0, 1.0, 0.5, 1.0)});
+  const stability::RegenerativeModel model(tool::Tool(*job.tool), *job.cutting, *job.process,
+                                           placeholder);
+  return stability::mean_cutting_stiffness_basis(model);
+}
+
 /// The primary diagram of draw i (job_of_draw names the variable and the
 /// draw when the draw itself is refused; a diagram that refuses the drawn
 /// inputs is named here, with the draw's values).
-std::vector<StabilityLimit> draw_primary(const job::Job& job, const JobDraws& draws,
-                                         std::size_t i) {
+std::vector<StabilityLimit> draw_primary(const job::Job& job, const JobDraws& draws, std::size_t i,
+                                         const stability::MeanCuttingStiffnessBasis* cut_basis) {
   job::Job draw_job = job_of_draw(job, draws, i);
   keep_only_primary(draw_job);
   const auto count = draws.values.rows();
   try {
-    const StabilityDiagram diagram = stability_diagram(draw_job, 1);
+    const StabilityDiagram diagram = stability_diagram(draw_job, 1, cut_basis);
     return diagram.primary();
   } catch (const InputError& e) {
     throw InputError(e.field(), e.line(),
@@ -89,6 +118,7 @@ std::vector<StabilityLimit> draw_primary(const job::Job& job, const JobDraws& dr
 /// rethrown is the first failing draw's whatever the thread count.
 std::vector<std::vector<StabilityLimit>> all_draw_limits(const job::Job& job, const JobDraws& draws,
                                                          int threads) {
+  const std::optional<stability::MeanCuttingStiffnessBasis> cut_basis = shared_cut_basis(job);
   const auto n = static_cast<std::size_t>(draws.values.rows());
   std::vector<std::vector<StabilityLimit>> rows(n);
   std::vector<std::exception_ptr> failures(n);
@@ -97,7 +127,7 @@ std::vector<std::vector<StabilityLimit>> all_draw_limits(const job::Job& job, co
     if (i > first_failure.load())
       return;
     try {
-      rows[i] = draw_primary(job, draws, i);
+      rows[i] = draw_primary(job, draws, i, cut_basis ? &*cut_basis : nullptr);
     } catch (...) {
       failures[i] = std::current_exception();
       std::size_t seen = first_failure.load();

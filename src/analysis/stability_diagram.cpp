@@ -43,12 +43,14 @@ Bifurcation bifurcation_from(const std::string& name) {
   return Bifurcation::none;
 }
 
-std::vector<StabilityLimit> zero_order_diagram(const stability::RegenerativeModel& model,
-                                               const Settings& settings,
-                                               const std::vector<double>& speeds, bool envelope,
-                                               int threads) {
+std::vector<StabilityLimit> zero_order_diagram(
+    const stability::RegenerativeModel& model, const Settings& settings,
+    const std::vector<double>& speeds, bool envelope, int threads,
+    const stability::MeanCuttingStiffnessBasis* cut_basis) {
   stability::ProcessDampedOptions options;
   options.zero_order.depth_max_m = settings.depth_max_m;
+  if (cut_basis)
+    options.mean_stiffness_per_depth = (*cut_basis)(model.law());
   options.method =
       envelope ? stability::MultiModeMethod::envelope : stability::MultiModeMethod::coupled;
   options.threads = threads;
@@ -281,7 +283,8 @@ ExperimentComparison compare_experiments(const std::vector<job::Experiment>& exp
   return comparison;
 }
 
-StabilityDiagram stability_diagram(const job::Job& job, int threads) {
+StabilityDiagram stability_diagram(const job::Job& job, int threads,
+                                   const stability::MeanCuttingStiffnessBasis* cut_basis) {
   job::require(job, {job::Section::tool, job::Section::cutting, job::Section::process,
                      job::Section::stability});
   const Settings& settings = *job.stability;
@@ -331,9 +334,9 @@ StabilityDiagram stability_diagram(const job::Job& job, int threads) {
     const stability::RegenerativeModel model(tool::Tool(*job.tool), *job.cutting, *job.process,
                                              *modes);
     if (want_coupled)
-      diagram.coupled = zero_order_diagram(model, settings, speeds, false, threads);
+      diagram.coupled = zero_order_diagram(model, settings, speeds, false, threads, cut_basis);
     if (want_envelope)
-      diagram.envelope = zero_order_diagram(model, settings, speeds, true, threads);
+      diagram.envelope = zero_order_diagram(model, settings, speeds, true, threads, cut_basis);
   } else if (settings.deformation) {
     if (settings.modes != Settings::Modes::coupled || settings.mode == Settings::Mode::map) {
       throw InputError("stability.deformation", 0,

@@ -190,13 +190,14 @@ class DampedLimit {
  public:
   DampedLimit(const RegenerativeModel& model, const std::optional<ProcessDamping>& params,
               const Eigen::Matrix3d& a0, const std::vector<double>& grid,
-              const dynamics::ModalModel& modes, double depth_max,
-              const ProcessDampedOptions& options)
+              const dynamics::ModalModel& modes, const ZeroOrderSolver& structural,
+              double depth_max, const ProcessDampedOptions& options)
       : model_(model),
         params_(params),
         a0_(a0),
         grid_(grid),
         modes_(modes),
+        structural_(structural),
         depth_max_(depth_max),
         options_(options) {}
 
@@ -260,12 +261,13 @@ class DampedLimit {
 
   ZeroOrderLimit evaluate(double depth, double frequency_hz) {
     ++evaluations_;
-    dynamics::ModalModel modes = modes_;
-    if (params_ && depth > 0.0) {
-      const double contact = std::min(depth, model_.max_depth_m());
-      modes = with_added_damping(
-          modes_, process_damping_matrix(model_, *params_, speed_, contact, frequency_hz));
-    }
+    // Without process damping the solver is the structure's alone, the same
+    // at every speed: built once (process_damped_limits), not per speed.
+    if (!params_ || !(depth > 0.0))
+      return structural_.limit(speed_);
+    const double contact = std::min(depth, model_.max_depth_m());
+    const dynamics::ModalModel modes = with_added_damping(
+        modes_, process_damping_matrix(model_, *params_, speed_, contact, frequency_hz));
     const ZeroOrderSolver solver(
         a0_, model_.tool().teeth(), [modes](double w) { return modes.receptance(w); }, grid_,
         depth_max_, options_.zero_order.refine_margin);
@@ -325,6 +327,7 @@ class DampedLimit {
   const Eigen::Matrix3d& a0_;
   const std::vector<double>& grid_;
   const dynamics::ModalModel& modes_;
+  const ZeroOrderSolver& structural_;  // modes_ without process damping
   double depth_max_;
   const ProcessDampedOptions& options_;
   double speed_ = 0.0;
@@ -344,7 +347,9 @@ std::vector<ZeroOrderLimit> process_damped_limits(const RegenerativeModel& model
   }
   const ZeroOrderOptions& zo = options.zero_order;
   const Eigen::Matrix3d a0 =
-      mean_cutting_stiffness_per_depth(model, zo.averaging_samples, zo.reference_depth_m);
+      options.mean_stiffness_per_depth
+          ? *options.mean_stiffness_per_depth
+          : mean_cutting_stiffness_per_depth(model, zo.averaging_samples, zo.reference_depth_m);
   const std::vector<double> grid = chatter_frequency_grid_rad_s(modal_peaks(model.modes()), zo);
   const double depth_max = zo.depth_max_m > 0.0 ? zo.depth_max_m : model.max_depth_m();
 
@@ -356,13 +361,23 @@ std::vector<ZeroOrderLimit> process_damped_limits(const RegenerativeModel& model
     for (int q = 0; q < model.modes().size(); ++q)
       sets.push_back(model.modes().subset({q}));
   }
+  // Each set's solver without process damping: its grid and branch tracking
+  // do not depend on the speed, so one serves every speed (and is the whole
+  // computation when there is no process damping).
+  std::vector<ZeroOrderSolver> structural;
+  structural.reserve(sets.size());
+  for (const dynamics::ModalModel& set : sets) {
+    structural.emplace_back(
+        a0, model.tool().teeth(), [set](double w) { return set.receptance(w); }, grid, depth_max,
+        zo.refine_margin);
+  }
   std::vector<ZeroOrderLimit> out(spindle_rad_s.size());
   core::parallel_for(spindle_rad_s.size(), options.threads, [&](std::size_t i) {
     ZeroOrderLimit best;
     int evaluations = 0;
     bool converged = true;
     for (std::size_t q = 0; q < sets.size(); ++q) {
-      DampedLimit solver(model, params, a0, grid, sets[q], depth_max, options);
+      DampedLimit solver(model, params, a0, grid, sets[q], structural[q], depth_max, options);
       ZeroOrderLimit r = solver.solve(spindle_rad_s[i]);
       evaluations += r.iterations;
       converged = converged && r.converged;

@@ -183,6 +183,26 @@ Eigen::Matrix3d RegenerativeModel::cutting_stiffness_sum(double period_rad, int 
   return sum;
 }
 
+std::array<Eigen::Matrix3d, 3> RegenerativeModel::cutting_stiffness_sum_per_coefficient(
+    double period_rad, int samples, double axial_depth_m) const {
+  const std::vector<tool::EdgeElement> edge_elements = edge(axial_depth_m);
+  const std::vector<EngagedElement> elements =
+      engaged_elements(tool_, process_, edge_elements, entry_at(axial_depth_m));
+  std::array<Eigen::Matrix3d, 3> sums;
+  for (Eigen::Matrix3d& m : sums)
+    m.setZero();
+  for (int s = 0; s < samples; ++s) {
+    for_each_engaged(tool_, elements, (s + 0.5) * period_rad / samples,
+                     [&](const tool::EdgeElement&, double width, const Eigen::Matrix3d& projection,
+                         const Eigen::Vector3d& normal) {
+                       for (int q = 0; q < 3; ++q)
+                         sums[static_cast<std::size_t>(q)] +=
+                             width * projection.col(q) * normal.transpose();
+                     });
+  }
+  return sums;
+}
+
 Eigen::Matrix3d RegenerativeModel::damping_shape(double rotation_rad, double axial_depth_m,
                                                  double friction) const {
   const Eigen::Vector3d split(friction, 1.0, 0.0);  // 000 Eq 18: [Ft; Fr] = C_eq [μ; 1] v_n

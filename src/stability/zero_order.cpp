@@ -50,6 +50,26 @@ Eigen::Matrix3d mean_cutting_stiffness_per_depth(const tool::Tool& tool,
                                           samples, reference_depth_m);
 }
 
+Eigen::Matrix3d MeanCuttingStiffnessBasis::operator()(const cutting::LinearLaw& law) const {
+  return law.Ktc_pa * per_shear_coefficient[0] + law.Krc_pa * per_shear_coefficient[1] +
+         law.Kac_pa * per_shear_coefficient[2];
+}
+
+MeanCuttingStiffnessBasis mean_cutting_stiffness_basis(const RegenerativeModel& model, int samples,
+                                                       double reference_depth_m) {
+  if (samples < 1)
+    throw std::invalid_argument("averaging samples must be ≥ 1");
+  const double depth =
+      reference_depth_m > 0.0 ? reference_depth_m : default_reference_depth_m(model);
+  const double period_rad = kTwoPi / model.tool().teeth();
+  MeanCuttingStiffnessBasis basis;
+  basis.per_shear_coefficient =
+      model.cutting_stiffness_sum_per_coefficient(period_rad, samples, depth);
+  for (Eigen::Matrix3d& m : basis.per_shear_coefficient)
+    m /= samples * depth;
+  return basis;
+}
+
 std::vector<FrfPeak> modal_peaks(const dynamics::ModalModel& modes) {
   std::vector<FrfPeak> peaks;
   peaks.reserve(modes.modes().size());

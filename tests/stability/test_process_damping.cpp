@@ -194,6 +194,33 @@ TEST(ProcessDamping, NoDampingGivesThePlainZeroOrderLimits) {
   }
 }
 
+// A0 handed over (the stability band's shared basis) replaces the model's
+// own average: the same A0 gives the same limits to the bit, and an A0 twice
+// as large halves every limit (ap = 1/(2 Re λ), λ an eigenvalue of A0 G).
+TEST(ProcessDamping, GivenMeanStiffnessIsTheOneUsed) {
+  const rs::RegenerativeModel model = benchmark_model();
+  std::vector<double> speeds;
+  for (int i = 0; i < 23; ++i)
+    speeds.push_back((3130.0 + 517.0 * i) * rpm);
+  const Eigen::Matrix3d a0 = rs::mean_cutting_stiffness_per_depth(model);
+  const auto own = rs::process_damped_limits(model, std::nullopt, speeds);
+  rs::ProcessDampedOptions given_a0;
+  given_a0.mean_stiffness_per_depth.emplace(a0);
+  const auto given = rs::process_damped_limits(model, std::nullopt, speeds, given_a0);
+  rs::ProcessDampedOptions doubled_a0;
+  doubled_a0.mean_stiffness_per_depth.emplace(2.0 * a0);
+  const auto doubled = rs::process_damped_limits(model, std::nullopt, speeds, doubled_a0);
+  int limited = 0;
+  for (std::size_t i = 0; i < speeds.size(); ++i) {
+    EXPECT_EQ(given[i].depth_limit_m, own[i].depth_limit_m);
+    if (!own[i].limited || !doubled[i].limited)
+      continue;
+    ++limited;
+    EXPECT_NEAR(doubled[i].depth_limit_m, 0.5 * own[i].depth_limit_m, 1e-9 * own[i].depth_limit_m);
+  }
+  EXPECT_GT(limited, 15);
+}
+
 // Modes in orthogonal directions (x, y) that A0 does not couple (A0 diagonal):
 // A0 G is diagonal, so the coupled eigenvalues are the single-mode ones and
 // the envelope of the one-mode diagrams equals the coupled diagram.

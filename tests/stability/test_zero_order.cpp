@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -99,6 +100,45 @@ TEST(ZeroOrder, HelicalFlatEndMillHasTheStraightFluteAverage) {
   const Eigen::Matrix3d c = rs::mean_cutting_stiffness_per_depth(helical, 4096, 12e-3);
   EXPECT_LT((a - b).norm(), 2e-3 * a.norm());
   EXPECT_LT((a - c).norm(), 2e-3 * a.norm());
+}
+
+// A0 is linear in the shear coefficients (000 Eq 14), so the basis of a cut
+// gives the A0 of any coefficients: a helical ball-end mill (A0 has a third
+// column) at 0.37 of its radial capacity in up milling, coefficients nobody
+// rounded, Kac included, at the default and at an odd reference depth. The
+// same terms are summed in another order, so they agree to round-off
+// (1e-13 relative), not to the bit.
+TEST(ZeroOrder, BasisGivesTheMeanStiffnessOfAnyCoefficients) {
+  rt::ToolSpec spec;
+  spec.type = rt::ToolType::ball;
+  spec.diameter_m = 10e-3;
+  spec.teeth = 3;
+  spec.helix_rad = 27.0 * pi / 180.0;
+  spec.overhang_m = 31e-3;
+  const rt::Tool tool(spec);
+  const rc::MillingProcess process = cut(3.7e-3, rc::MillingDirection::up);
+  for (const double reference_depth_m : {0.0, 2.93e-3}) {
+    const rs::RegenerativeModel reference(tool, benchmark_law(), process, benchmark_modes());
+    const rs::MeanCuttingStiffnessBasis basis =
+        rs::mean_cutting_stiffness_basis(reference, 4096, reference_depth_m);
+    for (const auto& [ktc, krc, kac] :
+         {std::array{6.13e8, 2.21e8, 0.0}, std::array{1.7392e9, 4.48e8, 1.37e8},
+          std::array{3.3e8, 0.0, 0.6e8}}) {
+      rc::LinearLaw law;
+      law.Ktc_pa = ktc;
+      law.Krc_pa = krc;
+      law.Kac_pa = kac;
+      const rs::RegenerativeModel model(tool, law, process, benchmark_modes());
+      const Eigen::Matrix3d direct =
+          rs::mean_cutting_stiffness_per_depth(model, 4096, reference_depth_m);
+      const Eigen::Matrix3d from_basis = basis(law);
+      EXPECT_GT(direct.col(2).norm(), 0.0) << "a ball end's A0 has an axial column";
+      EXPECT_LT((from_basis - direct).norm(), 1e-13 * direct.norm())
+          << "Ktc " << ktc << ", reference depth " << reference_depth_m << "\n"
+          << from_basis << "\nagainst\n"
+          << direct;
+    }
+  }
 }
 
 // Eq (2)-(3) of the header on a hand-made λ: ap (1 − e^{−iωτ}) λ = 1.

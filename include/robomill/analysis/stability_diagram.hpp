@@ -18,6 +18,7 @@
 #include "robomill/dynamics/modal_model.hpp"
 #include "robomill/job/job.hpp"
 #include "robomill/stability/lobes.hpp"
+#include "robomill/stability/zero_order.hpp"
 
 namespace robomill::analysis {
 
@@ -171,6 +172,13 @@ struct StabilityDiagram {
 /// (energy-balance damping with a time-domain method, a map by ZOA, 000's
 /// deformation variants with an envelope or a map, fitted modes too fast for
 /// the discretization).
-StabilityDiagram stability_diagram(const job::Job& job, int threads = 0);
+///
+/// `cut_basis`, when given, is the A0 basis (zero_order.hpp) of the job's
+/// tool, process and reference depth, computed once by a caller that runs
+/// many jobs differing only in coefficients and structure (the stability
+/// band's draws): the zero-order diagram on modes then takes A0 from it
+/// instead of averaging W again. The other methods ignore it.
+StabilityDiagram stability_diagram(const job::Job& job, int threads = 0,
+                                   const stability::MeanCuttingStiffnessBasis* cut_basis = nullptr);
 
 }  // namespace robomill::analysis

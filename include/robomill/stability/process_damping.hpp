@@ -121,6 +121,10 @@ struct ProcessDampedOptions {
   int max_evaluations = 40;  ///< ZOA limits per speed (and per mode for the envelope)
   double tolerance = 1e-4;   ///< relative change of depth and chatter frequency
   int threads = 1;           ///< speeds run in parallel; 0: all cores
+  /// A0 when the caller already has it (MeanCuttingStiffnessBasis applied to
+  /// the model's law, for many draws of one cut); nullopt computes it from
+  /// the model (mean_cutting_stiffness_per_depth with zero_order's options).
+  std::optional<Eigen::Matrix3d> mean_stiffness_per_depth;
 };
 
 /// Zero-order limits with optional process damping (nullopt: none) at each

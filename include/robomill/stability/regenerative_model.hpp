@@ -10,6 +10,7 @@
 // tooth period in angle and reused at every spindle speed.
 
 #include <Eigen/Core>
+#include <array>
 #include <functional>
 #include <vector>
 
@@ -54,6 +55,15 @@ class RegenerativeModel {
   /// their engagement found once instead of at every angle (the period
   /// average of the zero-order method, zero_order.hpp).
   Eigen::Matrix3d cutting_stiffness_sum(double period_rad, int samples, double axial_depth_m) const;
+
+  /// The same sum split by shear coefficient: W is linear in (K_tc, K_rc,
+  /// K_ac), so cutting_stiffness_sum = K_tc S[0] + K_rc S[1] + K_ac S[2]
+  /// (to round-off: the terms are summed in another order). S depends on the
+  /// tool, the process and the depth only, so one S serves every draw of the
+  /// coefficients and the structure (the stability band, issue 33).
+  std::array<Eigen::Matrix3d, 3> cutting_stiffness_sum_per_coefficient(double period_rad,
+                                                                       int samples,
+                                                                       double axial_depth_m) const;
 
   /// P = Σ_k ψ(z_k)ᵀ W_k ψ(z_k) at spindle angle ϕ (000 Eq 32, 37): the modal
   /// coupling the Floquet solver takes; ψ(0)ᵀ W ψ(0) for a tip model.

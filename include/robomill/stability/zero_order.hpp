@@ -42,6 +42,7 @@
 // eigensolver is used. Neither allocates per frequency.
 
 #include <Eigen/Core>
+#include <array>
 #include <complex>
 #include <functional>
 #include <vector>
@@ -116,6 +117,25 @@ Eigen::Matrix3d mean_cutting_stiffness_per_depth(const tool::Tool& tool,
                                                  const cutting::MillingProcess& process,
                                                  int samples = 4096,
                                                  double reference_depth_m = 0.0);
+
+/// A0 split by shear coefficient, for many A0 of one cut: the tool, the
+/// process and the reference depth fixed, the coefficients (K_tc, K_rc, K_ac)
+/// varying (the stability band's draws, issue 33). A0 is linear in them
+/// (000 Eq 14: W = Σ b (T K_c) nᵀ), so A0 = Σ_q K_qc ∂A0/∂K_qc exactly; this
+/// sums the same terms as mean_cutting_stiffness_per_depth in another order,
+/// so the two agree to round-off.
+struct MeanCuttingStiffnessBasis {
+  /// ∂A0/∂K_tc, ∂A0/∂K_rc, ∂A0/∂K_ac: (N/m per m of depth) per (N/m²).
+  std::array<Eigen::Matrix3d, 3> per_shear_coefficient;
+  /// A0 for `law`'s shear coefficients (N/m per m of depth).
+  Eigen::Matrix3d operator()(const cutting::LinearLaw& law) const;
+};
+
+/// The basis of `model`'s cut (its law's coefficients are not used), with
+/// the samples and reference depth of mean_cutting_stiffness_per_depth.
+MeanCuttingStiffnessBasis mean_cutting_stiffness_basis(const RegenerativeModel& model,
+                                                       int samples = 4096,
+                                                       double reference_depth_m = 0.0);
 
 /// The chatter-frequency grid (rad/s, sorted, unique) for the given peaks.
 std::vector<double> chatter_frequency_grid_rad_s(const std::vector<FrfPeak>& peaks,
