@@ -13,6 +13,7 @@
 
 #include <string>
 
+#include "../tests/support/two_mode_tool_tip.hpp"
 #include "robomill/analysis/stability_band.hpp"
 #include "robomill/analysis/stability_diagram.hpp"
 #include "robomill/job/job.hpp"
@@ -26,16 +27,7 @@ using namespace robomill;
 /// modes), with the robot cell's usual ignorance: the modes' stiffness and
 /// damping (one common factor each) and the cutting coefficients.
 std::string band_job_yaml(int draws) {
-  return "name: uncertainty benchmark\n"
-         "tool: {type: flat, diameter: 12 mm, teeth: 3, helix: 30 deg, overhang: 100 mm}\n"
-         "cutting: {law: linear, Ktc: 712 N/mm^2, Krc: 213.6 N/mm^2, Kte: 21.3 N/mm, "
-         "Kre: 14.7 N/mm}\n"
-         "process: {spindle: 9000 rpm, feed_per_tooth: 0.08 mm, ap: 2 mm, ae: 3 mm, "
-         "direction: down}\n"
-         "dynamics:\n"
-         "  modes:\n"
-         "    - {direction: x, fn: 703 Hz, zeta: 3.1 %, k: 8.3e6 N/m}\n"
-         "    - {direction: y, fn: 761 Hz, zeta: 3.6 %, k: 9.2e6 N/m}\n"
+  return "name: uncertainty benchmark\n" + robomill::test::two_mode_tool_tip_yaml() +
          "stability:\n"
          "  method: zoa\n"
          "  speeds: {from: 5000 rpm, to: 25000 rpm, count: 200}\n"

@@ -82,6 +82,33 @@ void check_advise_discretization(const job::Job& job,
 
 }  // namespace
 
+std::optional<robot::RobotModel> advice_robot(const job::Job& job) {
+  const job::AdviseSettings& settings = *job.advise;
+  if (!job.robot || !(settings.along_path || settings.redundancy))
+    return std::nullopt;
+  try {
+    return robot::RobotModel(job.robot->description);
+  } catch (const std::invalid_argument& error) {
+    throw InputError("robot", 0, error.what());
+  }
+}
+
+std::vector<dynamics::ModalModel> advice_stations(const job::Job& job,
+                                                  const std::optional<robot::RobotModel>& robot) {
+  const job::AdviseSettings& settings = *job.advise;
+  std::vector<dynamics::ModalModel> stations;
+  try {
+    if (settings.along_path)
+      stations = path_stations(job, *robot);
+    else
+      stations.push_back(analysis::structure_modes(job));
+  } catch (const std::invalid_argument& error) {
+    throw InputError(settings.along_path ? "advise.along" : "dynamics", 0, error.what());
+  }
+  check_advise_discretization(job, stations);
+  return stations;
+}
+
 CuttingParameterAdvice cutting_parameter_advice(const job::Job& job, int threads) {
   if (!job.advise)
     throw InputError("advise", 0,
@@ -92,23 +119,9 @@ CuttingParameterAdvice cutting_parameter_advice(const job::Job& job, int threads
   CuttingParameterAdvice result;
 
   std::optional<robot::RobotModel>& robot = result.robot;
-  if (job.robot && (settings.along_path || settings.redundancy)) {
-    try {
-      robot.emplace(job.robot->description);
-    } catch (const std::invalid_argument& error) {
-      throw InputError("robot", 0, error.what());
-    }
-  }
+  robot = advice_robot(job);
   std::vector<dynamics::ModalModel>& stations = result.stations;
-  try {
-    if (settings.along_path)
-      stations = path_stations(job, *robot);
-    else
-      stations.push_back(analysis::structure_modes(job));
-  } catch (const std::invalid_argument& error) {
-    throw InputError(settings.along_path ? "advise.along" : "dynamics", 0, error.what());
-  }
-  check_advise_discretization(job, stations);
+  stations = advice_stations(job, robot);
 
   const tool::Tool cutter(*job.tool);
   planning::AdviceOptions advice_options;

@@ -6,7 +6,9 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <exception>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -16,6 +18,7 @@
 #include <vector>
 
 #include "robomill/core/error.hpp"
+#include "robomill/core/parallel.hpp"
 #include "robomill/core/text.hpp"
 #include "robomill/io/csv.hpp"
 #include "robomill/job/units.hpp"
@@ -265,6 +268,83 @@ job::Job job_of_draw(const job::Job& nominal, const JobDraws& draws, std::size_t
   } catch (const InputError& error) {
     throw refused_draw(nominal, draws, i, error);
   }
+}
+
+namespace {
+
+/// "name = value, ..." of draw i, for messages.
+std::string draw_values_text(const JobDraws& draws, std::size_t i) {
+  std::string text;
+  const auto row = static_cast<Eigen::Index>(i);
+  for (std::size_t j = 0; j < draws.names.size(); ++j) {
+    text += fmt::format("{}{} = {:.6g}", j == 0 ? "" : ", ", draws.names[j],
+                        draws.values(row, static_cast<Eigen::Index>(j)));
+  }
+  return text;
+}
+
+/// An InputError's message without the "field (line N): " it starts with.
+std::string bare_message(const InputError& error) {
+  std::string prefix = error.field();
+  if (error.line() > 0)
+    prefix += " (line " + std::to_string(error.line()) + ")";
+  if (!prefix.empty())
+    prefix += ": ";
+  const std::string_view text = error.what();
+  return std::string(text.starts_with(prefix) ? text.substr(prefix.size()) : text);
+}
+
+/// body(i), its errors naming draw i and its values.
+void run_named_draw(const JobDraws& draws, std::size_t i,
+                    const std::function<void(std::size_t)>& body) {
+  const auto count = draws.values.rows();
+  try {
+    body(i);
+  } catch (const InputError& e) {
+    throw InputError(e.field(), e.line(),
+                     fmt::format("uncertainty draw {} of {} ({}): {}", i + 1, count,
+                                 draw_values_text(draws, i), bare_message(e)));
+  } catch (const NumericalError& e) {
+    throw NumericalError(fmt::format("uncertainty draw {} of {} ({}): {}", i + 1, count,
+                                     draw_values_text(draws, i), e.what()));
+  }
+}
+
+}  // namespace
+
+bool draws_keep_the_cut(const job::Job& job) {
+  if (!job.uncertainty)
+    return true;
+  for (const DrawnVariable& variable : job.uncertainty->variables) {
+    for (const DrawnTarget& target : variable.targets) {
+      const std::string_view path = target.path;
+      if (!path.starts_with("cutting.") && !path.starts_with("dynamics.") &&
+          !path.starts_with("robot."))
+        return false;
+    }
+  }
+  return true;
+}
+
+void for_each_draw(const JobDraws& draws, int threads,
+                   const std::function<void(std::size_t)>& body) {
+  const auto n = static_cast<std::size_t>(draws.values.rows());
+  std::vector<std::exception_ptr> failures(n);
+  std::atomic<std::size_t> first_failure{n};
+  core::parallel_for(n, threads, [&](std::size_t i) {
+    if (i > first_failure.load())
+      return;
+    try {
+      run_named_draw(draws, i, body);
+    } catch (...) {
+      failures[i] = std::current_exception();
+      std::size_t seen = first_failure.load();
+      while (i < seen && !first_failure.compare_exchange_weak(seen, i)) {
+      }
+    }
+  });
+  if (first_failure.load() < n)
+    std::rethrow_exception(failures[first_failure.load()]);
 }
 
 }  // namespace robomill::analysis

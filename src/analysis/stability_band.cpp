@@ -4,18 +4,14 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <chrono>
-#include <exception>
 #include <limits>
 #include <optional>
 #include <stdexcept>
-#include <string_view>
 
 #include "robomill/core/error.hpp"
 #include "robomill/core/parallel.hpp"
 #include "robomill/stability/lobes.hpp"
-#include "robomill/stability/regenerative_model.hpp"
 #include "robomill/stability/zero_order.hpp"
 #include "robomill/tool/tool.hpp"
 
@@ -45,98 +41,34 @@ void keep_only_primary(job::Job& draw_job) {
   draw_job.experiments.clear();
 }
 
-/// "name = value, ..." of draw i, for messages.
-std::string band_draw_values(const JobDraws& draws, std::size_t i) {
-  std::string text;
-  const auto row = static_cast<Eigen::Index>(i);
-  for (std::size_t j = 0; j < draws.names.size(); ++j) {
-    text += fmt::format("{}{} = {:.6g}", j == 0 ? "" : ", ", draws.names[j],
-                        draws.values(row, static_cast<Eigen::Index>(j)));
-  }
-  return text;
-}
-
-/// An InputError's message without the "field (line N): " it starts with.
-std::string band_bare_message(const InputError& error) {
-  std::string prefix = error.field();
-  if (error.line() > 0)
-    prefix += " (line " + std::to_string(error.line()) + ")";
-  if (!prefix.empty())
-    prefix += ": ";
-  const std::string_view text = error.what();
-  return std::string(text.starts_with(prefix) ? text.substr(prefix.size()) : text);
-}
-
 /// The A0 basis every draw shares (issue 33 deliverable 5: what does not
-/// change between draws is computed once): when the diagram is the
-/// zero-order one on modes and every variable sets coefficients or
-/// structure — a field under cutting., dynamics. or robot. — the tool, the
-/// process and so the cut's geometry are the nominal job's. Otherwise none,
-/// and each draw averages W itself.
+/// change between draws is computed once), for the zero-order diagram on
+/// modes when the draws keep the nominal cut; otherwise none, and each draw
+/// averages W itself.
 std::optional<stability::MeanCuttingStiffnessBasis> shared_cut_basis(const job::Job& job) {
   if (job.stability->method != BandSettings::Method::zoa ||
-      job.dynamics_source == job::Job::DynamicsSource::frf)
+      job.dynamics_source == job::Job::DynamicsSource::frf || !draws_keep_the_cut(job))
     return std::nullopt;
-  for (const job::UncertaintySettings::Variable& variable : job.uncertainty->variables) {
-    for (const job::UncertaintySettings::Target& target : variable.targets) {
-      const std::string_view path = target.path;
-      if (!path.starts_with("cutting.") && !path.starts_with("dynamics.") &&
-          !path.starts_with("robot."))
-        return std::nullopt;
-    }
-  }
-  // The modes play no part in A0 (W is the cut's alone); any will do.
-  const dynamics::ModalModel placeholder({dynamics::directional_mode(0, 1.0, 0.5, 1.0)});
-  const stability::RegenerativeModel model(tool::Tool(*job.tool), *job.cutting, *job.process,
-                                           placeholder);
-  return stability::mean_cutting_stiffness_basis(model);
+  return stability::mean_cutting_stiffness_basis(tool::Tool(*job.tool), *job.cutting, *job.process);
 }
 
-/// The primary diagram of draw i (job_of_draw names the variable and the
-/// draw when the draw itself is refused; a diagram that refuses the drawn
-/// inputs is named here, with the draw's values).
+/// The primary diagram of draw i.
 std::vector<StabilityLimit> draw_primary(const job::Job& job, const JobDraws& draws, std::size_t i,
                                          const stability::MeanCuttingStiffnessBasis* cut_basis) {
   job::Job draw_job = job_of_draw(job, draws, i);
   keep_only_primary(draw_job);
-  const auto count = draws.values.rows();
-  try {
-    const StabilityDiagram diagram = stability_diagram(draw_job, 1, cut_basis);
-    return diagram.primary();
-  } catch (const InputError& e) {
-    throw InputError(e.field(), e.line(),
-                     fmt::format("uncertainty draw {} of {} ({}): {}", i + 1, count,
-                                 band_draw_values(draws, i), band_bare_message(e)));
-  } catch (const NumericalError& e) {
-    throw NumericalError(fmt::format("uncertainty draw {} of {} ({}): {}", i + 1, count,
-                                     band_draw_values(draws, i), e.what()));
-  }
+  return stability_diagram(draw_job, 1, cut_basis).primary();
 }
 
-/// Every draw's primary diagram, on up to `threads` threads. A failing draw
-/// stops the draws after it; the draws before it still run, so the error
-/// rethrown is the first failing draw's whatever the thread count.
+/// Every draw's primary diagram, on up to `threads` threads (for_each_draw
+/// names a failing draw).
 std::vector<std::vector<StabilityLimit>> all_draw_limits(const job::Job& job, const JobDraws& draws,
                                                          int threads) {
   const std::optional<stability::MeanCuttingStiffnessBasis> cut_basis = shared_cut_basis(job);
-  const auto n = static_cast<std::size_t>(draws.values.rows());
-  std::vector<std::vector<StabilityLimit>> rows(n);
-  std::vector<std::exception_ptr> failures(n);
-  std::atomic<std::size_t> first_failure{n};
-  core::parallel_for(n, threads, [&](std::size_t i) {
-    if (i > first_failure.load())
-      return;
-    try {
-      rows[i] = draw_primary(job, draws, i, cut_basis ? &*cut_basis : nullptr);
-    } catch (...) {
-      failures[i] = std::current_exception();
-      std::size_t seen = first_failure.load();
-      while (i < seen && !first_failure.compare_exchange_weak(seen, i)) {
-      }
-    }
+  std::vector<std::vector<StabilityLimit>> rows(static_cast<std::size_t>(draws.values.rows()));
+  for_each_draw(draws, threads, [&](std::size_t i) {
+    rows[i] = draw_primary(job, draws, i, cut_basis ? &*cut_basis : nullptr);
   });
-  if (first_failure.load() < n)
-    std::rethrow_exception(failures[first_failure.load()]);
   return rows;
 }
 

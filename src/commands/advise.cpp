@@ -6,7 +6,10 @@
 // that maximizes the minimum stable depth along the path.
 //
 // The computation is analysis::cutting_parameter_advice's; this file writes it
-// as advice.json, advice_map.csv, redundancy.csv and summary.json.
+// as advice.json, advice_map.csv, redundancy.csv and summary.json. With an
+// uncertainty: section, analysis::robust_cutting_advice adds the advice that
+// keeps P(chatter) ≤ advise.max_chatter_probability (advice_map_robust.csv,
+// "uncertainty" in summary.json and advice.json).
 
 #include <fmt/format.h>
 
@@ -16,6 +19,7 @@
 #include <numbers>
 
 #include "robomill/analysis/cutting_parameter_advice.hpp"
+#include "robomill/analysis/robust_advice.hpp"
 #include "robomill/commands/commands.hpp"
 #include "robomill/core/constants.hpp"
 #include "robomill/io/csv.hpp"
@@ -185,6 +189,78 @@ std::string advise_message(const job::AdviseSettings& settings,
   return message;
 }
 
+// One point of the robust advice (summary.json's uncertainty.advice, the
+// peaks): the speed, the depth under the robust limit, what it removes.
+nlohmann::json robust_speed_json(const planning::SpeedAdvice& a) {
+  return {{"spindle_rpm", a.spindle_rad_s * kRpmPerRadS},
+          {"depth_mm", a.depth_m * 1e3},
+          {"robust_limit_depth_mm", a.limit_depth_m * 1e3},
+          {"expected_offset_mm", a.offset_m * 1e3},
+          {"offset_limited", a.offset_limited},
+          {"mrr_cm3_per_min", a.mrr_m3_per_s * kCm3PerMinPerM3PerS},
+          {"stage", a.stage == 0 ? "scan" : "refine"}};
+}
+
+/// The robust advice of an uncertain job (issue 33): advice_map_robust.csv
+/// (every speed scanned or refined, in speed order: the robust limit, the
+/// advised depth there, its offset and MRR), summary.json's and
+/// advice.json's "uncertainty", one more line of the message.
+void add_robust_advice(CommandResult& result, const analysis::RobustCuttingAdvice& robust,
+                       const planning::CuttingAdvice& nominal) {
+  const planning::CuttingAdvice& advice = robust.advice;
+  io::CsvTable map({"spindle_rpm", "stage", "robust_limit_depth_mm", "limited", "depth_mm",
+                    "offset_mm", "offset_limited", "mrr_cm3_per_min"});
+  std::vector<planning::SpeedAdvice> rows = advice.scan;
+  std::stable_sort(rows.begin(), rows.end(),
+                   [](const auto& a, const auto& b) { return a.spindle_rad_s < b.spindle_rad_s; });
+  for (const auto& a : rows)
+    map.add_row({a.spindle_rad_s * kRpmPerRadS, double(a.stage), a.limit_depth_m * 1e3,
+                 a.limited ? 1.0 : 0.0, a.depth_m * 1e3, a.offset_m * 1e3,
+                 a.offset_limited ? 1.0 : 0.0, a.mrr_m3_per_s * kCm3PerMinPerM3PerS});
+  nlohmann::json peaks = nlohmann::json::array();
+  for (const auto& p : advice.peaks)
+    peaks.push_back(robust_speed_json(p));
+  nlohmann::json block = {{"draws", robust.draw_count},
+                          {"source", robust.draws.source},
+                          {"variables", robust.draws.names},
+                          {"max_chatter_probability", robust.max_chatter_probability},
+                          {"feasible", advice.feasible},
+                          {"advice", robust_speed_json(advice.best)},
+                          {"p_chatter", robust.p_chatter.value},
+                          {"p_chatter_se", robust.p_chatter.standard_error},
+                          {"elapsed_s", robust.elapsed_s}};
+  if (nominal.feasible) {
+    block["nominal_p_chatter"] = robust.nominal_p_chatter.value;
+    block["nominal_p_chatter_se"] = robust.nominal_p_chatter.standard_error;
+  }
+  if (advice.check.done) {
+    block["nominal_structure_spectral_radius"] = advice.check.spectral_radius;
+    block["check_method"] = advice.check.method;
+  }
+  result.documents.front().second["uncertainty"] = block;
+  result.documents.front().second["uncertainty"]["peaks"] = peaks;
+  result.summary["uncertainty"] = block;
+  result.tables.emplace_back("advice_map_robust", std::move(map));
+  if (advice.feasible) {
+    result.message += fmt::format(
+        "  robust ({} draws, P(chatter) ≤ {:g} %): {:.0f} rpm, ap = {:.3f} mm → MRR {:.2f} "
+        "cm³/min, P(chatter) {:.1f} % ± {:.1f}",
+        robust.draw_count, robust.max_chatter_probability * 100.0,
+        advice.best.spindle_rad_s * kRpmPerRadS, advice.best.depth_m * 1e3,
+        advice.best.mrr_m3_per_s * kCm3PerMinPerM3PerS, robust.p_chatter.value * 100.0,
+        robust.p_chatter.standard_error * 100.0);
+  } else {
+    result.message += fmt::format(
+        "  robust ({} draws, P(chatter) ≤ {:g} %): no speed in the range admits one depth step",
+        robust.draw_count, robust.max_chatter_probability * 100.0);
+  }
+  if (nominal.feasible)
+    result.message += fmt::format("; the nominal advice chatters in {:.1f} % ± {:.1f} of the draws",
+                                  robust.nominal_p_chatter.value * 100.0,
+                                  robust.nominal_p_chatter.standard_error * 100.0);
+  result.message += "\n";
+}
+
 }  // namespace
 
 CommandResult compute_advise(const job::Job& job, int threads) {
@@ -261,6 +337,8 @@ CommandResult compute_advise(const job::Job& job, int threads) {
   result.summary = std::move(summary);
 
   result.message = advise_message(settings, advice, stations.size(), study);
+  if (job.uncertainty)
+    add_robust_advice(result, analysis::robust_cutting_advice(job, advice, threads), advice);
   return result;
 }
 

@@ -237,6 +237,8 @@ AdviseSettings read_advise(SectionReader& r, const Job& job) {
   tolerance.max = Bound{0.1, true};
   s.limit.depth_tolerance = r.quantity_or("depth_tolerance", tolerance, 1e-3);
   s.peaks = r.integer_or("peaks", 0, 1000, 5);
+  s.max_chatter_probability =
+      r.quantity_or("max_chatter_probability", dimensionless(kPositive, Bound{1.0, false}), 0.05);
   s.along_path = r.choice("along", {"posture", "path"}, "posture") == "path";
   s.redundancy_angle_rad = r.quantity_or("redundancy_angle", angle_deg(), 0.0);
   if (auto redundancy = r.section("redundancy")) {

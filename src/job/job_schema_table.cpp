@@ -317,6 +317,7 @@ constexpr Field kFields[] = {
   {"advise", "discretization", K::integer, "", "4 … 10 000, ≥ 2 steps per period of the highest mode", "40", "", "Steps per tooth period (sdm, fdm, fdm2)."},
   {"advise", "depth_tolerance", K::quantity, "", "0 < tol ≤ 0.1", "0.001", "", "Relative precision of a Floquet boundary."},
   {"advise", "peaks", K::integer, "", "0 … 1000", "5", "", "Runner-ups reported (local MRR maxima)."},
+  {"advise", "max_chatter_probability", K::quantity, "", "0 < p < 1 (a fraction or %)", "0.05", "", "With `uncertainty:`, the robust advice keeps P(chatter) over the draws at most p."},
   {"advise", "along", K::choice, "", "posture, path", "posture", "", "path: every point of `path` at workpiece.pose is a station (6-joint robot with links)."},
   {"advise", "redundancy_angle", K::quantity, "deg", "", "0", "", "With along: path, the robot's rotation ψ about the tool axis."},
   {"advise", "redundancy", K::map, "", "", "none", "", "The redundancy study: see `advise.redundancy`."},

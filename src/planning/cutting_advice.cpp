@@ -46,12 +46,15 @@ stability::LobePoint from_zero_order(const stability::ZeroOrderLimit& z) {
 class LimitEngine {
  public:
   LimitEngine(const std::vector<stability::RegenerativeModel>& models,
-              const LimitSettings& settings, int threads)
-      : models_(models), settings_(settings), threads_(threads) {
-    if (settings.method != LimitMethod::zoa)
+              const LimitSettings& settings, const AdviceOptions& options)
+      : models_(models),
+        settings_(settings),
+        threads_(options.threads),
+        source_(options.limit_source) {
+    if (settings.method != LimitMethod::zoa || source_)
       return;
     solvers_.resize(models.size());
-    core::parallel_for(models.size(), threads, [&](std::size_t s) {
+    core::parallel_for(models.size(), threads_, [&](std::size_t s) {
       stability::ZeroOrderOptions options;
       options.depth_max_m = settings.depth_max_m;
       solvers_[s] = std::make_unique<stability::ZeroOrderSolver>(models[s], options);
@@ -60,6 +63,12 @@ class LimitEngine {
 
   /// curves[s][i]: station s at speed i.
   std::vector<std::vector<stability::LobePoint>> at(const std::vector<double>& speeds) const {
+    if (source_) {
+      std::vector<std::vector<stability::LobePoint>> curves = {source_(speeds)};
+      if (curves.front().size() != speeds.size())
+        throw std::logic_error("advise_cutting: the limit source gave another number of speeds");
+      return curves;
+    }
     std::vector<std::vector<stability::LobePoint>> curves(models_.size());
     if (settings_.method == LimitMethod::zoa) {
       for (std::size_t s = 0; s < models_.size(); ++s) {
@@ -79,6 +88,7 @@ class LimitEngine {
   const std::vector<stability::RegenerativeModel>& models_;
   LimitSettings settings_;
   int threads_;
+  const std::function<std::vector<stability::LobePoint>(const std::vector<double>&)>& source_;
   std::vector<std::unique_ptr<stability::ZeroOrderSolver>> solvers_;
 };
 
@@ -317,8 +327,10 @@ void recheck(const std::vector<stability::RegenerativeModel>& models,
     advice.check.method = std::string(to_string(method ? options.limit.method : LimitMethod::fdm));
     advice.check.steps = steps;
     advice.check.spectral_radius = radius(chosen.spindle_rad_s, j * step);
-    // With a Floquet method the advice must be stable by that same method.
-    while (method && j > 0 && advice.check.spectral_radius >= 1.0) {
+    // With a Floquet method the advice must be stable by that same method
+    // (not with a limit source: its bound is a chance over uncertain
+    // structures, and the stations are only the nominal one).
+    while (method && !options.limit_source && j > 0 && advice.check.spectral_radius >= 1.0) {
       --j;
       ++advice.stepped_down;
       advice.check.spectral_radius = j > 0 ? radius(chosen.spindle_rad_s, j * step) : 0.0;
@@ -369,7 +381,7 @@ CuttingAdvice advise_cutting(const tool::Tool& tool, const cutting::CuttingLaw& 
     models.emplace_back(tool, law, process, station);
     dynamics.push_back(modal_dynamics(station));
   }
-  const LimitEngine engine(models, options.limit, options.threads);
+  const LimitEngine engine(models, options.limit, options);
 
   AdviceScan scan(tool, law, process, limits, options, dynamics, engine, depth_steps);
 

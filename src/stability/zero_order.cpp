@@ -21,6 +21,11 @@ double resolve_depth_max(const RegenerativeModel& model, const ZeroOrderOptions&
   return options.depth_max_m > 0.0 ? options.depth_max_m : model.max_depth_m();
 }
 
+/// RegenerativeModel needs some modal model; W, and so A0, never reads it.
+dynamics::ModalModel placeholder_modes() {
+  return dynamics::ModalModel({dynamics::directional_mode(0, 1.0, 0.5, 1.0)});
+}
+
 /// Phase ε of (3): π + 2 arg λ, in (0, 2π) when Re λ > 0.
 double phase_of(std::complex<double> lambda) noexcept {
   return kPi + 2.0 * std::atan(lambda.imag() / lambda.real());
@@ -44,10 +49,8 @@ Eigen::Matrix3d mean_cutting_stiffness_per_depth(const tool::Tool& tool,
                                                  const cutting::CuttingLaw& law,
                                                  const cutting::MillingProcess& process,
                                                  int samples, double reference_depth_m) {
-  // RegenerativeModel needs some modal model; W, and so A0, never reads it.
-  const dynamics::ModalModel placeholder({dynamics::directional_mode(0, 1.0, 0.5, 1.0)});
-  return mean_cutting_stiffness_per_depth(RegenerativeModel(tool, law, process, placeholder),
-                                          samples, reference_depth_m);
+  return mean_cutting_stiffness_per_depth(
+      RegenerativeModel(tool, law, process, placeholder_modes()), samples, reference_depth_m);
 }
 
 Eigen::Matrix3d MeanCuttingStiffnessBasis::operator()(const cutting::LinearLaw& law) const {
@@ -68,6 +71,14 @@ MeanCuttingStiffnessBasis mean_cutting_stiffness_basis(const RegenerativeModel& 
   for (Eigen::Matrix3d& m : basis.per_shear_coefficient)
     m /= samples * depth;
   return basis;
+}
+
+MeanCuttingStiffnessBasis mean_cutting_stiffness_basis(const tool::Tool& tool,
+                                                       const cutting::CuttingLaw& law,
+                                                       const cutting::MillingProcess& process,
+                                                       int samples, double reference_depth_m) {
+  return mean_cutting_stiffness_basis(RegenerativeModel(tool, law, process, placeholder_modes()),
+                                      samples, reference_depth_m);
 }
 
 std::vector<FrfPeak> modal_peaks(const dynamics::ModalModel& modes) {

@@ -24,6 +24,7 @@
 #include "robomill/core/error.hpp"
 #include "robomill/job/job.hpp"
 #include "robomill/uncertainty/sample_statistics.hpp"
+#include "support/two_mode_tool_tip.hpp"
 
 namespace test_stability_band_cpp {
 
@@ -42,16 +43,7 @@ constexpr double kZ95 = 1.6448536269514722;
 /// limit of a few to a few tens of mm). Kte and Kre are set: they add to the
 /// forces but not to the zero-order limit, which depends on Ktc and Krc only.
 std::string band_yaml(const std::string& depth_max, int depths, const std::string& uncertainty) {
-  return "name: stability band test\n"
-         "tool: {type: flat, diameter: 12 mm, teeth: 3, helix: 30 deg, overhang: 100 mm}\n"
-         "cutting: {law: linear, Ktc: 712 N/mm^2, Krc: 213.6 N/mm^2, Kte: 21.3 N/mm, "
-         "Kre: 14.7 N/mm}\n"
-         "process: {spindle: 9000 rpm, feed_per_tooth: 0.08 mm, ap: 2 mm, ae: 3 mm, "
-         "direction: down}\n"
-         "dynamics:\n"
-         "  modes:\n"
-         "    - {direction: x, fn: 703 Hz, zeta: 3.1 %, k: 8.3e6 N/m}\n"
-         "    - {direction: y, fn: 761 Hz, zeta: 3.6 %, k: 9.2e6 N/m}\n"
+  return "name: stability band test\n" + robomill::test::two_mode_tool_tip_yaml() +
          "stability:\n"
          "  method: zoa\n"
          "  speeds: {from: 4000 rpm, to: 13000 rpm, count: 41}\n"

@@ -40,4 +40,17 @@ struct CuttingParameterAdvice {
 /// for the structure's highest mode, settings the planner rejects.
 CuttingParameterAdvice cutting_parameter_advice(const job::Job& job, int threads = 0);
 
+/// The robot the advice needs (advise.along: path or advise.redundancy),
+/// built from the job's robot: section; none otherwise. Throws InputError
+/// naming `robot` when the description is refused. Needs the advise: section.
+std::optional<robot::RobotModel> advice_robot(const job::Job& job);
+
+/// The structures the advice holds for (CuttingParameterAdvice::stations):
+/// the job's structure, or the robot's tool-tip modes at every path point.
+/// Throws InputError naming the field (an unreachable point, a Floquet
+/// discretization too coarse for the highest mode). Needs the advise:
+/// section, and `robot` with advise.along: path.
+std::vector<dynamics::ModalModel> advice_stations(const job::Job& job,
+                                                  const std::optional<robot::RobotModel>& robot);
+
 }  // namespace robomill::analysis

@@ -15,6 +15,7 @@
 
 #include <Eigen/Core>
 #include <cstddef>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -44,6 +45,23 @@ JobDraws draw_job_inputs(const job::Job& job);
 /// job's (other variables) or `i` is not a row of it, and when the job has
 /// no uncertainty: section or was not read from text (Job::yaml_text).
 job::Job job_of_draw(const job::Job& nominal, const JobDraws& draws, std::size_t i);
+
+/// Whether every variable of the job's uncertainty: section sets cutting
+/// coefficients or structure (a field under `cutting.`, `dynamics.` or
+/// `robot.`): then every draw cuts with the nominal tool, process and
+/// engagement, and what depends on the cut's geometry alone (the A0 basis of
+/// the zero-order method) is the same for all draws.
+bool draws_keep_the_cut(const job::Job& job);
+
+/// Runs `body(i)` for every draw i on up to `threads` threads (0: all
+/// cores), for analyses that compute something per draw and write it to
+/// their own row. An InputError or NumericalError a draw throws is rethrown
+/// with the draw named and its values ("uncertainty draw 3 of 64 (k_x =
+/// -1.2e+06): ..."), keeping an InputError's field and line. A failing draw
+/// stops the draws after it; the ones before it still run, so the error
+/// rethrown is the first failing draw's whatever the thread count.
+void for_each_draw(const JobDraws& draws, int threads,
+                   const std::function<void(std::size_t)>& body);
 
 /// The nominal job itself as draw 0 of a zero-spread run is NOT assumed:
 /// callers compute the nominal job separately.

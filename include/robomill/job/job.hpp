@@ -225,6 +225,9 @@ struct AdviseSettings {
   planning::AdviceLimits limits;  ///< speeds, refine, depth_step, margin, max_offset, measure
   planning::LimitSettings limit;  ///< method, discretization, depth_max, depth_tolerance
   int peaks = 5;                  ///< runner-ups reported
+  /// `max_chatter_probability`: with an uncertainty: section, the robust
+  /// advice keeps P(chatter) over the draws at most this (issue 33).
+  double max_chatter_probability = 0.05;
   /// `along: path`: every point of the job's path at workpiece.pose is a
   /// station (the robot's modes there); `posture` (default): the job's
   /// structure (dynamics:) at robot.posture.

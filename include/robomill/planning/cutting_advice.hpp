@@ -31,6 +31,7 @@
 // check.
 
 #include <Eigen/Core>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -91,6 +92,16 @@ struct AdviceOptions {
   int check_steps = 40;
   int max_check_steps = 400;
   int threads = 0;  ///< 0: all cores
+  /// The limit the scan keeps under, when not the stations' own diagrams:
+  /// called with the scan's speeds, then with the fine rescan's, it returns
+  /// one LobePoint per speed (its depth_limit_m is what the margin
+  /// multiplies; `limited` and the chatter frequency are reported as the
+  /// stations' are). The robust advice of an uncertain job
+  /// (analysis/robust_advice.hpp) gives the depth whose chance of chatter
+  /// over the draws is the bound. The Floquet check of the advised point is
+  /// then made on the stations and reported, without stepping the depth down.
+  std::function<std::vector<stability::LobePoint>(const std::vector<double>& spindle_rad_s)>
+      limit_source;
 };
 
 /// One speed of the scan: advice_map.csv's row.

@@ -137,6 +137,13 @@ MeanCuttingStiffnessBasis mean_cutting_stiffness_basis(const RegenerativeModel& 
                                                        int samples = 4096,
                                                        double reference_depth_m = 0.0);
 
+/// The same for a cut alone (W, and so A0, does not depend on the modes).
+MeanCuttingStiffnessBasis mean_cutting_stiffness_basis(const tool::Tool& tool,
+                                                       const cutting::CuttingLaw& law,
+                                                       const cutting::MillingProcess& process,
+                                                       int samples = 4096,
+                                                       double reference_depth_m = 0.0);
+
 /// The chatter-frequency grid (rad/s, sorted, unique) for the given peaks.
 std::vector<double> chatter_frequency_grid_rad_s(const std::vector<FrfPeak>& peaks,
                                                  const ZeroOrderOptions& options);
