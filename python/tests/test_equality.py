@@ -34,6 +34,13 @@ CASES = [
     ("deflection", robomill.deflection, "000_kr600_multipoint.yaml", []),
     ("optimize", robomill.optimize, "004_kr300_pose_optimization.yaml", OPTIMIZE_FAST),
     ("advise", robomill.advise, "003_kr270_cutting_advice.yaml", ADVISE_FAST),
+    # With uncertainty: (issue 33): the band's lobes_quantiles and
+    # chatter_probability, the robust advice's advice_map_robust, as arrays.
+    ("stability", robomill.stability, "uncertainty_stability.yaml",
+     ["uncertainty.samples=16", "stability.speeds.count=15", "stability.depths=7"]),
+    ("advise", robomill.advise, "uncertainty_stability.yaml",
+     ["uncertainty.samples=16", "advise.speeds={from: 300 rpm, to: 6000 rpm, count: 12}",
+      "advise.refine=2"]),
     ("surface", robomill.surface, "001_case_5_surface.yaml",
      ["surface.grid=[100, 100]", "surface.grid_rule=false"]),
     ("toolpath", robomill.toolpath, "toolpath_pocket_gcode.yaml", []),

@@ -232,7 +232,8 @@ void apply_override(YAML::Node& root, const Override& override_, Provenance& pro
     value = YAML::Load(override_.value);
   } catch (const YAML::Exception& error) {
     throw InputError(override_.path, 0,
-                     "value of `" + where + "` is not valid YAML: " + error.msg + " (from --set)");
+                     "value of `" + where + "` is not valid YAML: " + error.msg +
+                         detail::flow_index_hint(override_.value) + " (from --set)");
   }
   if (!root.IsMap())
     root = YAML::Node(YAML::NodeType::Map);

@@ -183,6 +183,15 @@ Job read_job(const YAML::Node& root_node, const std::filesystem::path& source,
   return job;
 }
 
+/// Line `index` (0-based) of `text`, "" when there is none.
+std::string_view line_of(std::string_view text, int index) {
+  for (int i = 0; i < index && !text.empty(); ++i) {
+    const std::size_t end = text.find('\n');
+    text = end == std::string_view::npos ? std::string_view() : text.substr(end + 1);
+  }
+  return text.substr(0, text.find('\n'));
+}
+
 }  // namespace
 
 Job parse_job(std::string_view yaml_text, const std::filesystem::path& source_name,
@@ -197,7 +206,8 @@ Job parse_job(std::string_view yaml_text, const std::filesystem::path& source_na
     root = YAML::Load(text);
   } catch (const YAML::ParserException& error) {
     throw InputError(source, error.mark.line >= 0 ? error.mark.line + 1 : 0,
-                     "YAML syntax error: " + error.msg);
+                     "YAML syntax error: " + error.msg +
+                         detail::flow_index_hint(line_of(text, error.mark.line)));
   } catch (const YAML::Exception& error) {
     throw InputError(source, error.mark.line >= 0 ? error.mark.line + 1 : 0,
                      "cannot read YAML: " + error.msg);

@@ -15,6 +15,7 @@
 #include <limits>
 #include <numbers>
 #include <optional>
+#include <regex>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -149,6 +150,16 @@ std::string Provenance::note(std::string_view path) const {
 std::string format_in_unit(double value_si, const QuantityField& field) {
   const std::string number = fmt::format("{:g}", value_si / field.unit_si);
   return field.unit.empty() ? number : number + " " + std::string(field.unit);
+}
+
+std::string flow_index_hint(std::string_view line) {
+  // A word character, then [digits]: a list index inside a plain scalar.
+  static const std::regex indexed_path(R"(\w\[\s*\d+\s*\])");
+  const std::string text(line);
+  if (text.find_first_of("{[") == std::string::npos || !std::regex_search(text, indexed_path))
+    return "";
+  return "; inside { } or [ ], a path with list indices must be quoted "
+         "('dynamics.modes[0].k') or written with dots (dynamics.modes.0.k)";
 }
 
 std::string describe_node(const YAML::Node& node) {

@@ -65,6 +65,12 @@ std::string format_in_unit(double value_si, const QuantityField& field);
 /// "a map", "a list", "the value 'abc'", "nothing" — for type errors.
 std::string describe_node(const YAML::Node& node);
 
+/// What to add to a YAML syntax error on `line` when it is the usual trap
+/// of the uncertainty section: a field path with list indices written
+/// unquoted inside a flow map or list ({name: k, path: dynamics.modes[0].k}),
+/// where `[` opens a list. "" when the line shows no such path.
+std::string flow_index_hint(std::string_view line);
+
 class SectionReader {
  public:
   /// `node` must be a map (or null, read as an empty map); otherwise this

@@ -394,6 +394,25 @@ TEST(JobValidation, SyntaxErrorsCarryTheLine) {
   EXPECT_EQ(tabs.line(), 3) << tabs.what();
 }
 
+// The uncertainty section's trap: a path with a list index, unquoted inside
+// a flow map, opens a list where the path should be. The syntax error names
+// the line and says how to write it; the same path quoted is read.
+TEST(JobValidation, IndexedPathInAFlowMapGetsAHint) {
+  const std::string head =
+      "tool: {type: flat, diameter: 10 mm, teeth: 2}\nuncertainty:\n  variables:\n";
+  const InputError error = parse_error(
+      head + "    - {name: k, path: dynamics.modes[0].k, distribution: lognormal, sigma: 0.1}\n");
+  EXPECT_EQ(error.field(), "job.yaml");
+  EXPECT_EQ(error.line(), 4) << error.what();
+  const std::string message = error.what();
+  EXPECT_NE(message.find("YAML syntax error"), std::string::npos) << message;
+  EXPECT_NE(message.find("must be quoted"), std::string::npos) << message;
+  EXPECT_NE(message.find("dynamics.modes.0.k"), std::string::npos) << message;
+  // Another syntax error on a line without such a path gets no hint.
+  const InputError plain = parse_error("tool:\n  diameter: 10\n  teeth: [2\nprocess:\n");
+  EXPECT_EQ(std::string(plain.what()).find("must be quoted"), std::string::npos) << plain.what();
+}
+
 TEST(JobValidation, EmptyAndNonMapDocuments) {
   expect_error("", "job.yaml", 0, "job is empty");
   expect_error("# only a comment\n", "job.yaml", 0, "job is empty");
