@@ -31,14 +31,19 @@ double phase_of(std::complex<double> lambda) noexcept {
   return kPi + 2.0 * std::atan(lambda.imag() / lambda.real());
 }
 
+/// The depth A0 is averaged at (the given one, or the default), after
+/// checking the number of averaging samples.
+double averaging_depth_m(const RegenerativeModel& model, int samples, double reference_depth_m) {
+  if (samples < 1)
+    throw std::invalid_argument("averaging samples must be ≥ 1");
+  return reference_depth_m > 0.0 ? reference_depth_m : default_reference_depth_m(model);
+}
+
 }  // namespace
 
 Eigen::Matrix3d mean_cutting_stiffness_per_depth(const RegenerativeModel& model, int samples,
                                                  double reference_depth_m) {
-  if (samples < 1)
-    throw std::invalid_argument("averaging samples must be ≥ 1");
-  const double depth =
-      reference_depth_m > 0.0 ? reference_depth_m : default_reference_depth_m(model);
+  const double depth = averaging_depth_m(model, samples, reference_depth_m);
   const double period_rad = kTwoPi / model.tool().teeth();
   // Midpoint rule over one tooth period: every tooth sweeps 2π/N, so together
   // they visit each edge angle once and the helix lag only shifts the phase.
@@ -60,10 +65,7 @@ Eigen::Matrix3d MeanCuttingStiffnessBasis::operator()(const cutting::LinearLaw& 
 
 MeanCuttingStiffnessBasis mean_cutting_stiffness_basis(const RegenerativeModel& model, int samples,
                                                        double reference_depth_m) {
-  if (samples < 1)
-    throw std::invalid_argument("averaging samples must be ≥ 1");
-  const double depth =
-      reference_depth_m > 0.0 ? reference_depth_m : default_reference_depth_m(model);
+  const double depth = averaging_depth_m(model, samples, reference_depth_m);
   const double period_rad = kTwoPi / model.tool().teeth();
   MeanCuttingStiffnessBasis basis;
   basis.per_shear_coefficient =
