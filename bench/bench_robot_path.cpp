@@ -173,4 +173,50 @@ BENCHMARK(BM_RobotAlongProgram)
     ->Iterations(1)
     ->UseRealTime();
 
+// Issue 33's speed target for a program: the raster's ~10 000 samples with
+// the uncertain robot of examples/uncertainty_toolpath.yaml (a common factor
+// on the joint stiffnesses, the modal damping ratio, Ktc and Krc), 200
+// draws: each draw's structure at every sample's posture and its stable
+// depths by the shortcut, P(chatter) per sample. The target: under 60 s on
+// two cores. Reports the draws' zero-order solves and solves per second.
+void BM_RobotAlongProgramDraws(benchmark::State& state) {
+  const Bench bench;
+  const job::Job job = job::load_job(
+      std::filesystem::path(ROBOMILL_SOURCE_DIR) / "examples" / "uncertainty_toolpath.yaml",
+      {{"uncertainty.samples", std::to_string(state.range(0))}});
+  std::size_t samples = 0, solves = 0;
+  double expected = 0.0;
+  for (auto _ : state) {
+    toolpath::DexelStock stock = bench.stock();
+    std::optional<analysis::RobotPathSetup> setup = analysis::robot_path_setup(job, 2);
+    const analysis::RobotPathDraws draws = analysis::robot_path_draws(job, 2);
+    robot_path::RobotAlongPath along(*setup->model, setup->structure, bench.tooling, *job.cutting,
+                                     setup->stability, setup->settings);
+    along.set_draws(draws.path_draws());
+    std::vector<robot_path::RobotSample> block;
+    const toolpath::ProgramAnalysis analysis =
+        toolpath::analyse_program(bench.program, bench.tooling, *job.cutting, stock, bench.settings,
+                                  [&](std::span<const toolpath::PathSample> samples_block) {
+                                    block.resize(samples_block.size());
+                                    along.evaluate(samples_block, block);
+                                  });
+    const robot_path::RobotPathSummary summary = along.finish();
+    samples = analysis.samples;
+    solves = summary.draw_exact_limits;
+    expected = summary.expected_chatter_samples;
+    benchmark::DoNotOptimize(summary.max_p_chatter);
+  }
+  state.counters["samples"] = static_cast<double>(samples);
+  state.counters["draw_solves"] = static_cast<double>(solves);
+  state.counters["solves_per_s"] = benchmark::Counter(
+      static_cast<double>(solves), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["expected_chatter_samples"] = expected;
+}
+BENCHMARK(BM_RobotAlongProgramDraws)
+    ->ArgName("draws")
+    ->Arg(200)
+    ->Unit(benchmark::kSecond)
+    ->Iterations(1)
+    ->UseRealTime();
+
 }  // namespace

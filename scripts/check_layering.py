@@ -24,6 +24,7 @@ import sys
 # The pipeline, first to last. Each entry: module, what it is.
 MODULES = [
     ("core", "errors, parallel map, random numbers, text helpers"),
+    ("uncertainty", "distributions, quasi-random draws, sample statistics"),
     ("monitoring", "spectra and the chatter verdict of a signal"),
     ("dynamics", "modal models, FRFs, modal fitting"),
     ("robot", "kinematics, stiffness, joint-space dynamics, posture interpolation"),
@@ -37,7 +38,6 @@ MODULES = [
     ("planning", "workpiece placement, pose optimization, cutting advice"),
     ("robot_path", "the robot along the program: postures, margins, feeds, compensation"),
     ("atlas", "the workspace atlas and its result store"),
-    ("uncertainty", "distributions, quasi-random draws, propagation (reserved)"),
     ("learning", "likelihoods, the sampler, the next test (reserved)"),
     ("io", "file formats: programs, FRFs, recordings, CSV, summaries"),
     ("job", "the Job description, its schema, units, YAML parsing, --set"),

@@ -13,6 +13,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <vector>
 
 #include "mpi.hpp"
@@ -23,8 +24,10 @@
 namespace robomill::app {
 namespace {
 
-constexpr int kTagBlock = 3;  // rank → 0: [block, exact, checked, max error, packed samples…]
-constexpr std::size_t kHead = 4;
+// rank → 0: [block, exact, checked, max error, the draws' exact and max
+// error, n draws, n draws' chattering samples, packed samples…]
+constexpr int kTagBlock = 3;
+constexpr std::size_t kHead = 7;
 
 }  // namespace
 
@@ -38,13 +41,19 @@ int run_toolpath_mpi(const JobCommandOptions& options, int rank, int ranks) {
   sharing.send = [&](std::size_t block, std::span<const robot_path::RobotSample> out,
                      const robot_path::ShortcutChecks& checks) {
     const std::size_t stride = robot_path::packed_size(dof);
-    message.assign(kHead + out.size() * stride, 0.0);
+    const std::size_t head = kHead + checks.draw_chatter_samples.size();
+    message.assign(head + out.size() * stride, 0.0);
     message[0] = static_cast<double>(block);
     message[1] = static_cast<double>(checks.exact);
     message[2] = static_cast<double>(checks.checked);
     message[3] = checks.max_error;
+    message[4] = static_cast<double>(checks.draw_exact);
+    message[5] = checks.draw_max_error;
+    message[6] = static_cast<double>(checks.draw_chatter_samples.size());
+    std::copy(checks.draw_chatter_samples.begin(), checks.draw_chatter_samples.end(),
+              message.begin() + kHead);
     for (std::size_t i = 0; i < out.size(); ++i)
-      robot_path::pack(out[i], dof, message.data() + kHead + i * stride);
+      robot_path::pack(out[i], dof, message.data() + head + i * stride);
     MPI_Send(message.data(), static_cast<int>(message.size()), MPI_DOUBLE, 0, kTagBlock,
              MPI_COMM_WORLD);
   };
@@ -59,11 +68,13 @@ int run_toolpath_mpi(const JobCommandOptions& options, int rank, int ranks) {
     MPI_Recv(message.data(), count, MPI_DOUBLE, from, kTagBlock, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
     // The stride from the message: rank 0 never builds the robot's model
     // itself (RobotSample packs its joints' count).
+    const std::size_t head =
+        message.size() < kHead ? kHead : kHead + static_cast<std::size_t>(message[6]);
     const std::size_t stride =
-        out.empty() || message.size() < kHead ? 0 : (message.size() - kHead) / out.size();
+        out.empty() || message.size() < head ? 0 : (message.size() - head) / out.size();
     // Ranks send their blocks in program order and MPI keeps one sender's
     // order: anything else is a bug, not bad input.
-    if (message.size() < kHead || message.size() != kHead + out.size() * stride ||
+    if (message.size() < head || message.size() != head + out.size() * stride ||
         stride < robot_path::packed_size(0) || static_cast<std::size_t>(message[0]) != block)
       throw Error(
           fmt::format("MPI rank {} sent {} values where block {} of {} samples was "
@@ -72,8 +83,12 @@ int run_toolpath_mpi(const JobCommandOptions& options, int rank, int ranks) {
     checks.exact = static_cast<std::size_t>(message[1]);
     checks.checked = static_cast<std::size_t>(message[2]);
     checks.max_error = message[3];
+    checks.draw_exact = static_cast<std::size_t>(message[4]);
+    checks.draw_max_error = message[5];
+    checks.draw_chatter_samples.assign(message.begin() + kHead,
+                                       message.begin() + static_cast<std::ptrdiff_t>(head));
     for (std::size_t i = 0; i < out.size(); ++i)
-      out[i] = robot_path::unpack(message.data() + kHead + i * stride,
+      out[i] = robot_path::unpack(message.data() + head + i * stride,
                                   static_cast<int>(stride - robot_path::packed_size(0)));
   };
 

@@ -21,6 +21,8 @@ def strip_timings(value):
 def csv_number(value: float) -> str:
     """A double as the command line writes it: 12 significant digits
     (std::to_chars general, which is printf's %.12g), never "-0"."""
+    if math.isnan(value):
+        return ""  # an empty cell: a value that does not apply (NaN in Python)
     if value == 0.0:
         value = 0.0
     assert math.isfinite(value)

@@ -45,6 +45,9 @@ CASES = [
      ["surface.grid=[100, 100]", "surface.grid_rule=false"]),
     ("toolpath", robomill.toolpath, "toolpath_pocket_gcode.yaml", []),
     ("toolpath", robomill.toolpath, "toolpath_ball_5axis_apt.yaml", ["stock.resolution=0.5 mm"]),
+    # The robot along a program with uncertainty: (issue 33): samples with
+    # p_chatter, p_chatter_se and the band of the stable depth.
+    ("toolpath", robomill.toolpath, "uncertainty_toolpath.yaml", ["uncertainty.samples=4"]),
 ]
 
 

@@ -326,6 +326,30 @@ bool draws_keep_the_cut(const job::Job& job) {
   return true;
 }
 
+void require_draws_keep_the_postures(const job::Job& job, std::string_view what) {
+  if (!job.uncertainty)
+    return;
+  const auto keeps = [](std::string_view path) {
+    if (path.starts_with("cutting.") || path.starts_with("dynamics.") ||
+        path.starts_with("stability.") || path.starts_with("robot.joint_stiffness") ||
+        path.starts_with("robot.links") || path == "robot.damping_ratio")
+      return true;
+    return path.starts_with("robot.joints[") && path.ends_with("].damping");
+  };
+  const auto& variables = job.uncertainty->variables;
+  for (std::size_t k = 0; k < variables.size(); ++k)
+    for (const DrawnTarget& target : variables[k].targets)
+      if (!keeps(target.path))
+        throw InputError(fmt::format("uncertainty.variables[{}].path", k),
+                         target.line ? target.line : variables[k].line,
+                         fmt::format("{}: variable '{}' sets {}, which moves the robot's "
+                                     "postures or the cut; {} draws structure and "
+                                     "coefficients only (cutting.*, dynamics.*, stability.*, "
+                                     "robot.joint_stiffness, robot.joints[].damping, "
+                                     "robot.links, robot.damping_ratio)",
+                                     what, variables[k].name, target.path, what));
+}
+
 void for_each_draw(const JobDraws& draws, int threads,
                    const std::function<void(std::size_t)>& body) {
   const auto n = static_cast<std::size_t>(draws.values.rows());

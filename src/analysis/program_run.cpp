@@ -197,6 +197,10 @@ ProgramRun run_program(const job::Job& job, const ProgramRunOptions& options) {
                      "--optimize needs the spindle range it may choose from (stability.speeds: "
                      "{from, to, count}) or the feed's caps (robot_path.feed_limits)");
 
+  if (setup && job.uncertainty) {
+    run.draws.emplace(robot_path_draws(job, options.threads));
+    run.robot->set_draws(run.draws->path_draws());
+  }
   if (options.on_start)
     options.on_start(run);
 

@@ -2,6 +2,10 @@
 
 #include <fmt/format.h>
 
+#include <optional>
+#include <stdexcept>
+#include <utility>
+
 #include "robomill/analysis/process_damping.hpp"
 #include "robomill/analysis/structure.hpp"
 #include "robomill/core/error.hpp"
@@ -149,6 +153,7 @@ std::optional<RobotPathSetup> robot_path_setup(const job::Job& job, int threads)
     settings.check_every = r.check_every;
     settings.risk_margin = r.risk_margin;
     settings.worst_lines = static_cast<std::size_t>(r.worst_lines);
+    settings.max_chatter_probability = r.max_chatter_probability;
     // 000's contact boundary with the settings `robomill deflection` takes
     // from the job's deflection: section, so that a straight down-milling
     // cut reduces to that command at the sample's posture (the bending
@@ -183,6 +188,37 @@ std::optional<RobotPathSetup> robot_path_setup(const job::Job& job, int threads)
     }
   }
   return setup;
+}
+
+std::vector<robot_path::PathDraw> RobotPathDraws::path_draws() const {
+  std::vector<robot_path::PathDraw> out;
+  out.reserve(setups.size());
+  for (std::size_t i = 0; i < setups.size(); ++i)
+    out.push_back({setups[i].structure, laws[i], setups[i].stability});
+  return out;
+}
+
+RobotPathDraws robot_path_draws(const job::Job& job, int threads) {
+  require_draws_keep_the_postures(job, "toolpath");
+  job::require(job, {job::Section::cutting});
+  RobotPathDraws out{draw_job_inputs(job), {}, {}};
+  const auto n = static_cast<std::size_t>(out.draws.values.rows());
+  std::vector<std::optional<RobotPathSetup>> setups(n);
+  std::vector<std::optional<cutting::CuttingLaw>> laws(n);
+  for_each_draw(out.draws, threads, [&](std::size_t i) {
+    const job::Job drawn = job_of_draw(job, out.draws, i);
+    setups[i] = robot_path_setup(drawn, 1);
+    laws[i] = *drawn.cutting;
+  });
+  out.setups.reserve(n);
+  out.laws.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!setups[i])
+      throw std::invalid_argument("robot_path_draws: a job without a robot on its program");
+    out.setups.push_back(std::move(*setups[i]));
+    out.laws.push_back(std::move(*laws[i]));
+  }
+  return out;
 }
 
 }  // namespace robomill::analysis

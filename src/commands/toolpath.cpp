@@ -76,8 +76,10 @@ std::vector<std::string> sample_columns() {
           "plunge"};
 }
 
-// The robot's columns (robot_along_path.hpp), after the program's.
-std::vector<std::string> sample_columns(int dof) {
+// The robot's columns (robot_along_path.hpp), after the program's; with
+// draws of the uncertain inputs (issue 33), P(chatter) and the band of the
+// limit last.
+std::vector<std::string> sample_columns(int dof, bool drawn) {
   std::vector<std::string> columns = sample_columns();
   if (dof > 0) {
     columns.emplace_back("psi_deg");
@@ -88,12 +90,15 @@ std::vector<std::string> sample_columns(int dof) {
           "at_risk", "chatter_freq_hz", "dev_x_um", "dev_y_um", "dev_z_um", "deflection_um",
           "form_error_um", "floor_error_um", "dynamics_recomputed", "contact", "offset_um"})
       columns.emplace_back(c);
+    if (drawn)
+      for (const char* c : {"p_chatter", "p_chatter_se", "ap_limit_q05_mm", "ap_limit_q95_mm"})
+        columns.emplace_back(c);
   }
   return columns;
 }
 
-io::CsvTable sample_table(int dof = 0) {
-  return io::CsvTable(sample_columns(dof));
+io::CsvTable sample_table(int dof = 0, bool drawn = false) {
+  return io::CsvTable(sample_columns(dof, drawn));
 }
 
 // A row of cells for an in-memory table (the library's samples, the
@@ -116,7 +121,7 @@ class TableRow {
 
 template <class Row>
 void add_sample(Row& row, const toolpath::PathSample& s,
-                const robot_path::RobotSample* robot = nullptr) {
+                const robot_path::RobotSample* robot = nullptr, bool drawn = false) {
   for (const double value :
        {static_cast<double>(s.line), s.t_s, s.tip_m.x() * 1e3, s.tip_m.y() * 1e3, s.tip_m.z() * 1e3,
         s.axis.x(), s.axis.y(), s.axis.z(), static_cast<double>(s.tool)})
@@ -173,8 +178,65 @@ void add_sample(Row& row, const toolpath::PathSample& s,
     either(limit, r.exact ? 1.0 : 0.0);
     either(bent, r.contact ? 1.0 : 0.0);
     either(r.has_offset, r.steady_offset_m * 1e6);
+    if (drawn) {
+      either(r.drawn, r.p_chatter);
+      either(r.drawn, r.p_chatter_se);
+      either(r.drawn, r.depth_limit_q05_m * 1e3);
+      either(r.drawn, r.depth_limit_q95_m * 1e3);
+    }
   }
   row.end_row();
+}
+
+// summary.json's robot_along_path.uncertainty (issue 33): the draws, the
+// expected number of chattering samples, the most probable chatter and the
+// lines over the bound.
+nlohmann::json path_uncertainty_json(const analysis::JobDraws& draws,
+                                     const robot_path::RobotAlongPath& along,
+                                     const robot_path::RobotPathSummary& r) {
+  constexpr std::size_t kListed = 200;
+  nlohmann::json lines = nlohmann::json::array();
+  for (std::size_t k = 0; k < std::min(kListed, r.risky_lines.size()); ++k) {
+    const robot_path::RiskyLine& l = r.risky_lines[k];
+    lines.push_back({{"line", l.line},
+                     {"t_s", l.t_s},
+                     {"p_chatter", l.p_chatter},
+                     {"p_chatter_se", l.p_chatter_se},
+                     {"ap_mm", l.axial_depth_m * 1e3},
+                     {"ap_limit_mm", l.depth_limit_m * 1e3},
+                     {"ap_limit_q05_mm", l.depth_limit_q05_m * 1e3}});
+  }
+  return {{"draws", r.draws},
+          {"source", draws.source},
+          {"variables", draws.names},
+          {"max_chatter_probability", along.settings().max_chatter_probability},
+          {"expected_chatter_samples", r.expected_chatter_samples},
+          {"expected_chatter_samples_se", r.expected_chatter_samples_se},
+          {"nominal_chatter_samples", r.chatter},
+          {"max_p_chatter", r.max_p_chatter},
+          {"max_p_chatter_se", r.max_p_chatter_se},
+          {"max_p_chatter_line", r.max_p_chatter_line},
+          {"lines_over_bound_count", r.risky_lines.size()},
+          {"lines_over_bound", lines},
+          {"draw_dynamics_recomputations", r.draw_exact_limits},
+          {"draw_shortcut_max_error", r.draw_shortcut_max_error}};
+}
+
+std::string path_uncertainty_message(const robot_path::RobotAlongPath& along,
+                                     const robot_path::RobotPathSummary& r) {
+  std::string text = fmt::format(
+      "  uncertainty: {} draws, expected chattering samples {:.1f} ± {:.1f} (nominal {}); "
+      "highest P(chatter) {:.1f} % ± {:.1f} (line {}); {} lines over {:.3g} %",
+      r.draws, r.expected_chatter_samples, r.expected_chatter_samples_se, r.chatter,
+      r.max_p_chatter * 100.0, r.max_p_chatter_se * 100.0, r.max_p_chatter_line,
+      r.risky_lines.size(), along.settings().max_chatter_probability * 100.0);
+  if (!r.risky_lines.empty()) {
+    text += " (";
+    for (std::size_t k = 0; k < std::min<std::size_t>(8, r.risky_lines.size()); ++k)
+      text += fmt::format("{}{}", k ? ", " : "", r.risky_lines[k].line);
+    text += r.risky_lines.size() > 8 ? ", …)" : ")";
+  }
+  return text + "\n";
 }
 
 // summary.json's robot_along_path: the worst lines with their advice, the
@@ -846,6 +908,7 @@ CommandResult compute_toolpath(const job::Job& job, int threads,
   // preview of at most kPreviewRows evenly spread rows goes to the report,
   // the stride chosen from the program's length before the run.
   int dof = 0;
+  bool drawn = false;
   std::size_t preview_stride = 1, seen = 0;
   io::CsvTable samples = sample_table(), preview = sample_table();
   std::ofstream stream;
@@ -859,14 +922,15 @@ CommandResult compute_toolpath(const job::Job& job, int threads,
     options.progress = [&](double fraction) { progress("toolpath", fraction); };
   options.on_start = [&](const analysis::ProgramRun& run) {
     dof = run.robot ? run.robot->model().dof() : 0;
-    samples = sample_table(dof);
-    preview = sample_table(dof);
+    drawn = run.robot && run.robot->draw_count() > 0;
+    samples = sample_table(dof, drawn);
+    preview = sample_table(dof, drawn);
     preview_stride = preview_stride_for(job, run);
     if (!samples_file.empty()) {
       stream.open(samples_file, std::ios::binary | std::ios::trunc);
       if (!stream)
         throw Error("cannot write " + samples_file.string());
-      streamed.emplace(sample_columns(dof));
+      streamed.emplace(sample_columns(dof, drawn));
     }
   };
   options.on_samples = [&](std::span<const toolpath::PathSample> block,
@@ -875,11 +939,11 @@ CommandResult compute_toolpath(const job::Job& job, int threads,
     for (std::size_t i = 0; i < block.size(); ++i) {
       const robot_path::RobotSample* r = robot.empty() ? nullptr : &robot[i];
       if (streamed)
-        add_sample(*streamed, block[i], r);
+        add_sample(*streamed, block[i], r, drawn);
       else
-        add_sample(in_memory, block[i], r);
+        add_sample(in_memory, block[i], r, drawn);
       if (seen++ % preview_stride == 0)
-        add_sample(preview_row, block[i], r);
+        add_sample(preview_row, block[i], r, drawn);
     }
     if (streamed) {
       const std::string text = streamed->take();
@@ -904,6 +968,11 @@ CommandResult compute_toolpath(const job::Job& job, int threads,
     robot_text += unreachable_warning(r);
     summary["robot_along_path"] = robot_summary(*run.robot_setup, *run.robot, r);
     robot_text += robot_path_message(run.robot->model().name(), r);
+    if (run.draws) {
+      summary["robot_along_path"]["uncertainty"] =
+          path_uncertainty_json(run.draws->draws, *run.robot, r);
+      robot_text += path_uncertainty_message(*run.robot, r);
+    }
   }
 
   CommandResult result;

@@ -170,6 +170,8 @@ void read_robot_path(SectionReader& root, Job& job) {
   s.risk_margin =
       r.quantity_or("risk_margin", dimensionless(Bound{1.0, true}, Bound{10.0, true}), 1.0);
   s.worst_lines = r.integer_or("worst_lines", 1, 1000, 10);
+  s.max_chatter_probability =
+      r.quantity_or("max_chatter_probability", dimensionless(kPositive, Bound{1.0, false}), 0.05);
   if (r.has("deflection"))
     s.contact_deflection = r.choice("deflection", {"static", "contact"}) == "contact";
   if (auto search = r.section("redundancy_search")) {

@@ -351,6 +351,7 @@ constexpr Field kFields[] = {
   {"robot_path", "max_span", K::integer, "", "1 … 100 000", "64", "", "At most this many samples between two exact stable depths."},
   {"robot_path", "check_every", K::integer, "", "0 … 1e6", "25", "", "Every n-th interpolated sample is computed exactly too, and the largest difference reported (`shortcut_max_error`); 0: none."},
   {"robot_path", "risk_margin", K::quantity, "", "1 … 10", "1", "", "A sample is at risk when its stable depth is below this × its depth (1: only where it chatters)."},
+  {"robot_path", "max_chatter_probability", K::quantity, "", "0 < p < 1 (a fraction or %)", "0.05", "", "With `uncertainty:`, the program lines where P(chatter) over the draws exceeds p at some sample are listed (summary.json's robot_along_path.uncertainty)."},
   {"robot_path", "redundancy_search", K::map, "", "", "none", "", "`{from, to, count}` (deg): the redundancy angles `--optimize` tries for the whole program (see `robot_path.redundancy_search`); on a KRL program, turns of all its frames about the tool axis, written into their A, B, C."},
   {"robot_path.redundancy_search", "from", K::quantity, "deg", "", "", "yes", "First angle."},
   {"robot_path.redundancy_search", "to", K::quantity, "deg", "> from when count > 1", "", "yes", "Last angle."},

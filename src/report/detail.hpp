@@ -180,6 +180,11 @@ void robot_path_colours(const Table& samples, const std::vector<std::size_t>& fe
 /// robot. `samples`: samples_preview.csv, null when absent
 /// (figures_toolpath_robot.cpp).
 void toolpath_robot_figures(const Table* samples, const nlohmann::json& summary, Content& content);
+/// With draws of the uncertain inputs along the program (samples_preview.csv
+/// has `p_chatter`; summary.json robot_along_path.uncertainty): the depth cut
+/// against the nominal limit and the draws' band, P(chatter) with the bound
+/// over time, and the lines over the bound (figures_uncertainty.cpp).
+void path_uncertainty_figures(const Table* samples, const nlohmann::json& along, Content& content);
 /// `robomill listen`: the spectrogram with the onset, the spectrum with each
 /// line's cause, the recorded cuts on the lobes, the verdicts and the advice
 /// (figures_listen.cpp).

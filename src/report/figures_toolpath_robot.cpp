@@ -766,6 +766,7 @@ void toolpath_robot_figures(const Table* s, const json& summary, Content& c) {
   posture_figure(*it, c);
   headline_table(*it, c);
   worst_lines_table(*it, c);
+  path_uncertainty_figures(s, *it, c);
   const auto optimization = summary.find("optimization");
   if (optimization != summary.end() && optimization->is_object() &&
       optimization->value("changed", false)) {

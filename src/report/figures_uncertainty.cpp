@@ -5,11 +5,13 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
 
 #include "detail.hpp"
+#include "figure_helpers.hpp"
 
 namespace robomill::report::detail {
 
@@ -84,6 +86,123 @@ void stability_band_figures(const Outputs& o, Content& c) {
       c.figures.push_back(std::move(*m));
     }
   }
+}
+
+void path_uncertainty_figures(const Table* s, const nlohmann::json& along, Content& c) {
+  const auto it = along.find("uncertainty");
+  if (it == along.end() || !it->is_object())
+    return;
+  const nlohmann::json& u = *it;
+  const double bound = number_of(u, "max_chatter_probability");
+  const std::string draws = fmt::format("{} draws", integer_text(number_of(u, "draws")));
+  if (s != nullptr && s->has("t_s") && s->has("p_chatter") && s->has("ap_limit_q05_mm") &&
+      s->has("ap_limit_q95_mm") && s->has("ap_limit_mm") && s->has("ap_mm")) {
+    const std::vector<double> t = s->numbers("t_s"), line = s->numbers("line");
+    const std::vector<double> p = s->numbers("p_chatter");
+    // Only the samples with draws (in the cut, reachable): the rest are gaps.
+    std::vector<double> ap = s->numbers("ap_mm");
+    for (std::size_t i = 0; i < ap.size(); ++i)
+      if (i >= p.size() || !std::isfinite(p[i]))
+        ap[i] = std::nan("");
+    Figure f;
+    f.title = "Chatter probability along the program";
+    stack(f, axis_title("t_s"), {"axial depth (mm)", "P(chatter)"}, {1.2, 1.0});
+    f.height_px = 640;
+    f.layout["hovermode"] = "x unified";
+    f.layout["legend"] = {{"orientation", "h"}, {"y", -0.12}};
+    const std::vector<std::size_t> at = thin(t.size(), kTimePoints);
+    auto series = [&](const std::string& column, const std::string& name, const char* colour,
+                      const std::string& dash) {
+      nlohmann::json tr = trace(pick(t, at), pick(s->numbers(column), at), name);
+      tr["line"] = {{"color", colour}, {"width", 1.2}, {"dash", dash}};
+      tr["customdata"] = integers(pick(line, at));
+      tr["hovertemplate"] = name + " %{y:.4g} (line %{customdata})<extra></extra>";
+      return tr;
+    };
+    nlohmann::json low = series("ap_limit_q05_mm", "5 % quantile of the limit", "#1f77b4", "dot");
+    low["legendgroup"] = "band";
+    f.data.push_back(on_row(low, 0));
+    nlohmann::json high = series("ap_limit_q95_mm", "95 % quantile of the limit", "#1f77b4", "dot");
+    high["fill"] = "tonexty";
+    high["fillcolor"] = "rgba(31, 119, 180, 0.18)";
+    high["legendgroup"] = "band";
+    f.data.push_back(on_row(high, 0));
+    nlohmann::json nominal = series("ap_limit_mm", "nominal limit", "#2c3e50", "solid");
+    f.data.push_back(on_row(nominal, 0));
+    nlohmann::json cut = trace(pick(t, at), pick(ap, at), "depth cut");
+    cut["line"] = {{"color", "#d62728"}, {"width", 1.6}};
+    f.data.push_back(on_row(cut, 0));
+    nlohmann::json probability = series("p_chatter", "P(chatter)", "#d62728", "solid");
+    if (s->has("p_chatter_se")) {
+      probability["error_y"] = {
+          {"type", "data"},  {"array", values(pick(s->numbers("p_chatter_se"), at))},
+          {"visible", true}, {"thickness", 0.6},
+          {"width", 0},      {"color", "rgba(214, 39, 40, 0.4)"}};
+    }
+    f.data.push_back(on_row(probability, 1));
+    if (std::isfinite(bound))
+      f.layout["shapes"] = nlohmann::json::array(
+          {{{"type", "line"},
+            {"xref", "paper"},
+            {"yref", "y2"},
+            {"x0", 0},
+            {"x1", 1},
+            {"y0", bound},
+            {"y1", bound},
+            {"line", {{"color", "#d62728"}, {"dash", "dash"}, {"width", 1}}}}});
+    f.layout["yaxis2"]["range"] = {0, 1};
+    f.caption = fmt::format(
+        "Top: the axial depth each sample cuts (red), its nominal stable depth (line) and the band "
+        "90 % of {} of the uncertain inputs put it in (5 % to 95 % quantiles, shaded), at the "
+        "sample's own posture, engagement and spindle speed. Bottom: P(chatter), the fraction "
+        "of the draws whose stable depth lies at or below the depth cut, with its Monte-Carlo "
+        "standard error as bars; the dashed line is robot_path.max_chatter_probability ({}). "
+        "Where the red depth enters the band the verdict is uncertain; hover shows each sample's "
+        "program line. samples_preview.csv, evenly thinned.",
+        draws, std::isfinite(bound) ? display(100.0 * bound) + " %" : std::string("—"));
+    c.figures.push_back(std::move(f));
+  }
+  TextTable table;
+  table.title = fmt::format(
+      "Program lines whose P(chatter) over {} exceeds {} (summary.json "
+      "robot_along_path.uncertainty.lines_over_bound)",
+      draws, std::isfinite(bound) ? display(100.0 * bound) + " %" : std::string("the bound"));
+  table.header = {"line",
+                  axis_title("t_s"),
+                  "P(chatter)",
+                  "± se",
+                  axis_title("ap_mm"),
+                  "nominal stable ap (mm)",
+                  "5 % quantile of stable ap (mm)"};
+  if (const auto lines = u.find("lines_over_bound"); lines != u.end() && lines->is_array())
+    for (const nlohmann::json& l : *lines)
+      table.rows.push_back({integer_text(number_of(l, "line")), display(number_of(l, "t_s")),
+                            display(number_of(l, "p_chatter")),
+                            display(number_of(l, "p_chatter_se")), display(number_of(l, "ap_mm")),
+                            display(number_of(l, "ap_limit_mm")),
+                            display(number_of(l, "ap_limit_q05_mm"))});
+  const double listed = static_cast<double>(table.rows.size());
+  if (const double count = number_of(u, "lines_over_bound_count"); count > listed)
+    table.title += fmt::format("; the first {} of {}", integer_text(listed), integer_text(count));
+  if (table.rows.empty())
+    table.rows.push_back({"none", "—", "—", "—", "—", "—", "—"});
+  c.tables.push_back(std::move(table));
+  // The expectations beside the nominal count.
+  TextTable totals;
+  totals.title = "Chatter over the draws (summary.json robot_along_path.uncertainty)";
+  totals.header = {"result", "value", "line"};
+  totals.rows.push_back({"draws", integer_text(number_of(u, "draws")), ""});
+  totals.rows.push_back({"expected chattering samples",
+                         fmt::format("{} ± {}", display(number_of(u, "expected_chatter_samples")),
+                                     display(number_of(u, "expected_chatter_samples_se"))),
+                         ""});
+  totals.rows.push_back({"chattering samples, nominal inputs",
+                         integer_text(number_of(along, "chatter_samples")), ""});
+  totals.rows.push_back({"highest P(chatter)",
+                         fmt::format("{} ± {}", display(number_of(u, "max_p_chatter")),
+                                     display(number_of(u, "max_p_chatter_se"))),
+                         integer_text(number_of(u, "max_p_chatter_line"))});
+  c.tables.push_back(std::move(totals));
 }
 
 }  // namespace robomill::report::detail

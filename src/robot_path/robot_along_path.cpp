@@ -64,6 +64,18 @@ const tool::Tool* find_tool(const toolpath::Tooling& tooling, int number) {
 // are interpolated; a change of any starts a new run.
 enum class Band { down, up, slot, inside };
 
+// The up-milling band [0, exit] of an arc (A0 of an inner arc is the
+// difference of two of them).
+cutting::MillingProcess up_band_process(double exit_rad, double radius_m, double spindle_rad_s,
+                                        double feed_per_tooth_m) {
+  cutting::MillingProcess process;
+  process.spindle_rad_s = spindle_rad_s;
+  process.feed_per_tooth_m = feed_per_tooth_m;
+  process.direction = cutting::MillingDirection::up;
+  process.radial_depth_m = std::clamp(radius_m * (1.0 - std::cos(exit_rad)), 1e-9, 2.0 * radius_m);
+  return process;
+}
+
 Band band_of(const toolpath::PathSample& s) {
   const bool starts = s.entry_rad <= kBandEdgeRad;
   const bool ends = std::abs(s.exit_rad - kPi) <= kBandEdgeRad;
@@ -403,12 +415,8 @@ Eigen::Matrix3d RobotAlongPath::mean_stiffness(const tool::Tool& tool,
     // An arc inside (0, π): the period-averaged W is additive over the arc,
     // so A0 of [a, b] is A0 of the up-milling band [0, b] less that of [0, a].
     auto up_band = [&](double exit) {
-      cutting::MillingProcess process;
-      process.spindle_rad_s = spindle;
-      process.feed_per_tooth_m = sample.feed_per_tooth_m;
-      process.direction = cutting::MillingDirection::up;
-      process.radial_depth_m = std::clamp(radius * (1.0 - std::cos(exit)), 1e-9, 2.0 * radius);
-      return stability::mean_cutting_stiffness_per_depth(tool, law_, process);
+      return stability::mean_cutting_stiffness_per_depth(
+          tool, law_, up_band_process(exit, radius, spindle, sample.feed_per_tooth_m));
     };
     a0 = up_band(sample.exit_rad) - up_band(sample.entry_rad);
   }
@@ -417,35 +425,105 @@ Eigen::Matrix3d RobotAlongPath::mean_stiffness(const tool::Tool& tool,
   return a0;
 }
 
+Eigen::Matrix3d RobotAlongPath::draw_mean_stiffness(std::size_t draw, const tool::Tool& tool,
+                                                    const toolpath::PathSample& sample) const {
+  const auto key =
+      std::make_tuple(&tool, sample.entry_rad, sample.exit_rad, sample.feed_per_tooth_m);
+  const cutting::CuttingLaw& law = draws_[draw].law;
+  const auto* linear = std::get_if<cutting::LinearLaw>(&law);
+  {
+    const std::lock_guard lock(a0_mutex_);
+    if (linear) {
+      if (const auto it = basis_cache_.find(key); it != basis_cache_.end())
+        return it->second(*linear);
+    } else if (const auto it = draw_a0_cache_[draw].find(key); it != draw_a0_cache_[draw].end()) {
+      return it->second;
+    }
+  }
+  const double radius = 0.5 * tool.diameter_m();
+  const double spindle = std::abs(sample.spindle_rad_s);
+  // As mean_stiffness: the band's own process, or an inner arc [a, b] as the
+  // up-milling band [0, b] less [0, a].
+  auto up_band = [&](double exit) {
+    return up_band_process(exit, radius, spindle, sample.feed_per_tooth_m);
+  };
+  const auto band =
+      band_process(sample.entry_rad, sample.exit_rad, radius, spindle, sample.feed_per_tooth_m);
+  if (linear) {
+    // A0 is linear in (Ktc, Krc, Kac) (000 Eq 14): one basis per arc serves
+    // every draw's coefficients.
+    stability::MeanCuttingStiffnessBasis basis;
+    if (band) {
+      basis = stability::mean_cutting_stiffness_basis(tool, law, *band);
+    } else {
+      basis = stability::mean_cutting_stiffness_basis(tool, law, up_band(sample.exit_rad));
+      const stability::MeanCuttingStiffnessBasis entry =
+          stability::mean_cutting_stiffness_basis(tool, law, up_band(sample.entry_rad));
+      for (std::size_t c = 0; c < basis.per_shear_coefficient.size(); ++c)
+        basis.per_shear_coefficient[c] -= entry.per_shear_coefficient[c];
+    }
+    const std::lock_guard lock(a0_mutex_);
+    return basis_cache_.emplace(key, basis).first->second(*linear);
+  }
+  const Eigen::Matrix3d a0 =
+      band ? stability::mean_cutting_stiffness_per_depth(tool, law, *band)
+           : Eigen::Matrix3d(
+                 stability::mean_cutting_stiffness_per_depth(tool, law, up_band(sample.exit_rad)) -
+                 stability::mean_cutting_stiffness_per_depth(tool, law, up_band(sample.entry_rad)));
+  const std::lock_guard lock(a0_mutex_);
+  draw_a0_cache_[draw].emplace(key, a0);
+  return a0;
+}
+
 std::vector<stability::ZeroOrderLimit> RobotAlongPath::limits_at(
     const toolpath::PathSample& sample, const Eigen::VectorXd& q_rad,
     const std::vector<double>& speeds_rad_s) const {
+  return limits_with(sample, q_rad, speeds_rad_s, structure_, law_, stability_,
+                     [&](const tool::Tool& tool) { return mean_stiffness(tool, sample); });
+}
+
+stability::ZeroOrderLimit RobotAlongPath::draw_limit(std::size_t draw,
+                                                     const toolpath::PathSample& sample,
+                                                     const Eigen::VectorXd& q_rad) const {
+  if (draw >= draws_.size())
+    throw std::invalid_argument("robot along the path: no such draw");
+  const PathDraw& d = draws_[draw];
+  return limits_with(
+             sample, q_rad, {std::abs(sample.spindle_rad_s)}, d.structure, d.law, d.stability,
+             [&](const tool::Tool& tool) { return draw_mean_stiffness(draw, tool, sample); })
+      .front();
+}
+
+std::vector<stability::ZeroOrderLimit> RobotAlongPath::limits_with(
+    const toolpath::PathSample& sample, const Eigen::VectorXd& q_rad,
+    const std::vector<double>& speeds_rad_s, const PostureStructure& structure,
+    const cutting::CuttingLaw& law, const PathStabilitySettings& settings,
+    const std::function<Eigen::Matrix3d(const tool::Tool&)>& a0_of) const {
   const tool::Tool* tool = find_tool(tooling_, sample.tool);
   if (!tool)
     throw std::invalid_argument("robot along the path: no cutter for the sample's tool");
   const Eigen::Matrix3d cell_to_milling =
       (settings_.workpiece_to_cell.linear() * milling_frame(sample)).transpose();
-  const dynamics::ModalModel modes = structure_(q_rad, cell_to_milling);
+  const dynamics::ModalModel modes = structure(q_rad, cell_to_milling);
   stability::ProcessDampedOptions options;
   options.zero_order.depth_max_m =
-      stability_.depth_max_m > 0.0 ? stability_.depth_max_m : tool->overhang_m();
-  options.method = stability_.envelope ? stability::MultiModeMethod::envelope
-                                       : stability::MultiModeMethod::coupled;
+      settings.depth_max_m > 0.0 ? settings.depth_max_m : tool->overhang_m();
+  options.method = settings.envelope ? stability::MultiModeMethod::envelope
+                                     : stability::MultiModeMethod::coupled;
   options.threads = 1;
   const double radius = 0.5 * tool->diameter_m();
   const auto process = band_process(sample.entry_rad, sample.exit_rad, radius,
                                     std::abs(sample.spindle_rad_s), sample.feed_per_tooth_m);
-  if (process && stability_.process_damping) {
+  if (process && settings.process_damping) {
     // The straight cut of `robomill stability` with process damping (its
     // zero-order diagram): the damping needs the regenerative model itself.
-    const stability::RegenerativeModel model(*tool, law_, *process, modes);
-    return stability::process_damped_limits(model, stability_.process_damping, speeds_rad_s,
-                                            options);
+    const stability::RegenerativeModel model(*tool, law, *process, modes);
+    return stability::process_damped_limits(model, settings.process_damping, speeds_rad_s, options);
   }
   // Without process damping the zero-order limit needs only A0 and the modes
   // (process_damped_limits reduces to the same solver).
-  const Eigen::Matrix3d a0 = mean_stiffness(*tool, sample);
-  if (stability_.envelope)
+  const Eigen::Matrix3d a0 = a0_of(*tool);
+  if (settings.envelope)
     return stability::envelope_limits(a0, tool->teeth(), modes, speeds_rad_s, options.zero_order);
   const stability::ZeroOrderSolver solver(a0, tool->teeth(), modes, options.zero_order);
   return solver.limits(speeds_rad_s);
@@ -458,6 +536,20 @@ stability::ZeroOrderLimit RobotAlongPath::direct_limit(const toolpath::PathSampl
 
 ShortcutChecks RobotAlongPath::limits(std::span<const toolpath::PathSample> samples,
                                       std::span<RobotSample> out) const {
+  ShortcutChecks checks = shortcut_limits(
+      samples, out,
+      [this](const toolpath::PathSample& s, const Eigen::VectorXd& q) {
+        return direct_limit(s, q);
+      },
+      settings_.threads);
+  if (!draws_.empty())
+    draw_limits(samples, out, checks);
+  return checks;
+}
+
+ShortcutChecks RobotAlongPath::shortcut_limits(std::span<const toolpath::PathSample> samples,
+                                               std::span<RobotSample> out, const LimitAt& limit_at,
+                                               int threads) const {
   // The samples that get a limit, and the runs they form.
   ShortcutChecks totals;
   std::vector<std::size_t> index;
@@ -492,7 +584,7 @@ ShortcutChecks RobotAlongPath::limits(std::span<const toolpath::PathSample> samp
   std::vector<char> exact(index.size(), 0);
   auto compute = [&](std::size_t k) {
     const std::size_t i = index[k];
-    const stability::ZeroOrderLimit limit = direct_limit(samples[i], Eigen::VectorXd(out[i].q_rad));
+    const stability::ZeroOrderLimit limit = limit_at(samples[i], Eigen::VectorXd(out[i].q_rad));
     out[i].depth_limit_m = limit.depth_limit_m;
     out[i].limited = limit.limited;
     out[i].chatter_frequency_hz = limit.chatter_frequency_hz;
@@ -532,7 +624,7 @@ ShortcutChecks RobotAlongPath::limits(std::span<const toolpath::PathSample> samp
     refine(a, m);
     refine(m, b);
   };
-  core::parallel_for(chunks.size(), settings_.threads, [&](std::size_t c) {
+  core::parallel_for(chunks.size(), threads, [&](std::size_t c) {
     const auto [a, b] = chunks[c];
     compute(a);
     if (b != a)
@@ -549,7 +641,7 @@ ShortcutChecks RobotAlongPath::limits(std::span<const toolpath::PathSample> samp
         checks.push_back(k);
   }
   std::vector<double> errors(checks.size(), 0.0);
-  core::parallel_for(checks.size(), settings_.threads, [&](std::size_t c) {
+  core::parallel_for(checks.size(), threads, [&](std::size_t c) {
     const std::size_t i = index[checks[c]];
     const double shortcut = out[i].depth_limit_m;
     compute(checks[c]);
@@ -608,6 +700,15 @@ void RobotAlongPath::record(std::span<const toolpath::PathSample> samples,
   summary_.exact_limits += checks.exact;
   summary_.checked += checks.checked;
   summary_.shortcut_max_error = std::max(summary_.shortcut_max_error, checks.max_error);
+  if (!draws_.empty()) {
+    if (checks.draw_chatter_samples.size() != draws_.size())
+      throw std::invalid_argument("robot along the path: a block without its draws' counts");
+    summary_.draw_exact_limits += checks.draw_exact;
+    summary_.draw_shortcut_max_error =
+        std::max(summary_.draw_shortcut_max_error, checks.draw_max_error);
+    for (std::size_t d = 0; d < draws_.size(); ++d)
+      summary_.draw_chatter_samples[d] += checks.draw_chatter_samples[d];
+  }
   for (std::size_t i = 0; i < samples.size(); ++i)
     tally(samples[i], out[i]);
 }
@@ -661,6 +762,8 @@ void RobotAlongPath::tally(const toolpath::PathSample& s, const RobotSample& r) 
   }
   if (!r.stability)
     return;
+  if (r.drawn)
+    tally_draws(s, r);
   ++summary_.stability_samples;
   summary_.chatter += r.chatter ? 1 : 0;
   summary_.at_risk += r.at_risk ? 1 : 0;
@@ -687,6 +790,12 @@ void RobotAlongPath::tally(const toolpath::PathSample& s, const RobotSample& r) 
 }
 
 RobotPathSummary RobotAlongPath::finish() {
+  close_line();
+  if (!draws_.empty()) {
+    const uncertainty::Estimate expected = uncertainty::sample_mean(summary_.draw_chatter_samples);
+    summary_.expected_chatter_samples = expected.value;
+    summary_.expected_chatter_samples_se = expected.standard_error;
+  }
   RobotPathSummary summary = summary_;
   if (!std::isfinite(summary.min_margin))
     summary.min_margin = 0.0;
@@ -742,28 +851,48 @@ std::vector<Eigen::Vector3d> RobotAlongPath::joint_origins(const Eigen::VectorXd
 
 // The layout: the flags and scalars in RobotSample's order, the vectors'
 // components, then q's size and q padded to `dof`.
+constexpr std::size_t kPackedHead = 31;
 std::size_t packed_size(int dof) {
-  return 26 + static_cast<std::size_t>(std::max(dof, 0));
+  return kPackedHead + static_cast<std::size_t>(std::max(dof, 0));
 }
 
 void pack(const RobotSample& r, int dof, double* out) {
   const auto flag = [](bool b) { return b ? 1.0 : 0.0; };
-  const double head[] = {flag(r.reachable),      r.redundancy_rad,
-                         r.joint_margin_rad,     flag(r.joint_limit),
-                         r.singularity,          flag(r.stability),
-                         flag(r.exact),          r.depth_limit_m,
-                         flag(r.limited),        r.margin,
-                         flag(r.chatter),        flag(r.at_risk),
-                         r.chatter_frequency_hz, r.deflection_m.x(),
-                         r.deflection_m.y(),     r.deflection_m.z(),
-                         r.form_error_m,         r.floor_error_m,
-                         flag(r.wall),           r.wall_direction.x(),
-                         r.wall_direction.y(),   r.wall_direction.z(),
-                         flag(r.contact),        r.steady_offset_m,
-                         flag(r.has_offset),     static_cast<double>(r.q_rad.size())};
+  const double head[] = {flag(r.reachable),
+                         r.redundancy_rad,
+                         r.joint_margin_rad,
+                         flag(r.joint_limit),
+                         r.singularity,
+                         flag(r.stability),
+                         flag(r.exact),
+                         r.depth_limit_m,
+                         flag(r.limited),
+                         r.margin,
+                         flag(r.chatter),
+                         flag(r.at_risk),
+                         r.chatter_frequency_hz,
+                         r.deflection_m.x(),
+                         r.deflection_m.y(),
+                         r.deflection_m.z(),
+                         r.form_error_m,
+                         r.floor_error_m,
+                         flag(r.wall),
+                         r.wall_direction.x(),
+                         r.wall_direction.y(),
+                         r.wall_direction.z(),
+                         flag(r.contact),
+                         r.steady_offset_m,
+                         flag(r.has_offset),
+                         flag(r.drawn),
+                         r.p_chatter,
+                         r.p_chatter_se,
+                         r.depth_limit_q05_m,
+                         r.depth_limit_q95_m,
+                         static_cast<double>(r.q_rad.size())};
+  static_assert(std::size(head) == kPackedHead);
   std::copy(std::begin(head), std::end(head), out);
   for (int j = 0; j < dof; ++j)
-    out[26 + j] = j < r.q_rad.size() ? r.q_rad[j] : 0.0;
+    out[kPackedHead + j] = j < r.q_rad.size() ? r.q_rad[j] : 0.0;
 }
 
 RobotSample unpack(const double* in, int dof) {
@@ -789,10 +918,15 @@ RobotSample unpack(const double* in, int dof) {
   r.contact = in[22] != 0.0;
   r.steady_offset_m = in[23];
   r.has_offset = in[24] != 0.0;
-  const int size = std::clamp(static_cast<int>(in[25]), 0, std::min(dof, 8));
+  r.drawn = in[25] != 0.0;
+  r.p_chatter = in[26];
+  r.p_chatter_se = in[27];
+  r.depth_limit_q05_m = in[28];
+  r.depth_limit_q95_m = in[29];
+  const int size = std::clamp(static_cast<int>(in[30]), 0, std::min(dof, 8));
   r.q_rad.resize(size);
   for (int j = 0; j < size; ++j)
-    r.q_rad[j] = in[26 + j];
+    r.q_rad[j] = in[kPackedHead + j];
   return r;
 }
 

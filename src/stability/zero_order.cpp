@@ -221,7 +221,7 @@ Eigen::Vector3cd ZeroOrderSolver::eigenvalues(double omega) const {
     const C first = half_trace + root;
     const C det = b(0, 0) * b(1, 1) - b(0, 1) * b(1, 0);
     out[0] = first;
-    out[1] = std::abs(first) > 0.0 ? det / first : half_trace - root;
+    out[1] = first != C(0.0, 0.0) ? det / first : half_trace - root;
     return out;
   }
   Eigen::ComplexEigenSolver<Eigen::Matrix3cd> solver;
@@ -246,8 +246,13 @@ void ZeroOrderSolver::build() {
     }
     return false;
   };
+  // Each point's eigenvalues are computed once: an extension re-tracks the
+  // branches over the whole grid (a point added below changes the labels),
+  // but the eigenvalues of the points already there stay as they are.
+  std::vector<Eigen::Vector3cd> raw(grid_.size());
+  std::vector<char> known(grid_.size(), 0);
   for (;;) {
-    track();
+    track(raw, known);
     const bool top = top_octaves < max_octaves && below_depth_max(grid_.size() - 1);
     const bool bottom = bottom_octaves < max_octaves && below_depth_max(0);
     if (!top && !bottom)
@@ -257,6 +262,8 @@ void ZeroOrderSolver::build() {
       for (int i = 1; i <= points_per_octave; ++i) {
         grid_.push_back(from * std::exp2(static_cast<double>(i) / points_per_octave));
       }
+      raw.resize(grid_.size());
+      known.resize(grid_.size(), 0);
       ++top_octaves;
     }
     if (bottom) {
@@ -268,12 +275,14 @@ void ZeroOrderSolver::build() {
       }
       lower.insert(lower.end(), grid_.begin(), grid_.end());
       grid_ = std::move(lower);
+      raw.insert(raw.begin(), points_per_octave, Eigen::Vector3cd::Zero());
+      known.insert(known.begin(), points_per_octave, 0);
       ++bottom_octaves;
     }
   }
 }
 
-void ZeroOrderSolver::track() {
+void ZeroOrderSolver::track(std::vector<Eigen::Vector3cd>& raw_at, std::vector<char>& known) {
   const std::size_t n = grid_.size();
   const std::size_t nb = static_cast<std::size_t>(branches_);
   lambda_.assign(nb * n, {});
@@ -286,15 +295,26 @@ void ZeroOrderSolver::track() {
   const int perm_count = branches_ == 3 ? 6 : 2;
   Eigen::Vector3cd previous = Eigen::Vector3cd::Zero();
   for (std::size_t i = 0; i < n; ++i) {
-    const Eigen::Vector3cd raw = eigenvalues(grid_[i]);
+    if (!known[i]) {
+      raw_at[i] = eigenvalues(grid_[i]);
+      known[i] = 1;
+    }
+    const Eigen::Vector3cd& raw = raw_at[i];
     Eigen::Vector3cd ordered = raw;
     if (i > 0) {
+      // |raw[a] − previous[b]| once per pair (√|·|², not std::abs's
+      // overflow-safe hypot: eigenvalues are far inside double's range, and
+      // the tracking was a tenth of a path's uncertainty run).
+      double apart[3][3] = {};
+      for (int a = 0; a < branches_; ++a)
+        for (int b = 0; b < branches_; ++b)
+          apart[a][b] = std::sqrt(std::norm(raw[a] - previous[b]));
       double best = std::numeric_limits<double>::infinity();
       for (int p = 0; p < perm_count; ++p) {
         const int* perm = branches_ == 3 ? perms3[p] : perms2[p];
         double distance = 0.0;
         for (int b = 0; b < branches_; ++b)
-          distance += std::abs(raw[perm[b]] - previous[b]);
+          distance += apart[perm[b]][b];
         if (distance < best) {
           best = distance;
           for (int b = 0; b < branches_; ++b)
@@ -329,7 +349,7 @@ bool ZeroOrderSolver::refine(int branch, int interval, int lobe, double delay_s,
     const Eigen::Vector3cd all = eigenvalues(w);
     int best = 0;
     for (int b = 1; b < branches_; ++b) {
-      if (std::abs(all[b] - guess) < std::abs(all[best] - guess))
+      if (std::norm(all[b] - guess) < std::norm(all[best] - guess))
         best = b;
     }
     return std::complex<double>(all[best]);
@@ -485,7 +505,7 @@ ZeroOrderLimit ZeroOrderSolver::minimum_limit() const {
     const Eigen::Vector3cd all = eigenvalues(w);
     int pick = 0;
     for (int b = 1; b < branches_; ++b) {
-      if (std::abs(all[b] - anchor) < std::abs(all[pick] - anchor))
+      if (std::norm(all[b] - anchor) < std::norm(all[pick] - anchor))
         pick = b;
     }
     value = all[pick];

@@ -41,6 +41,25 @@ cmp -s "$WORK/one/samples.csv" "$WORK/two/samples.csv" || fail "samples.csv: 2 r
 cmp -s <(grep -v elapsed "$WORK/one/summary.json") <(grep -v elapsed "$WORK/two/summary.json") \
   || fail "summary.json: 2 ranks differ from 1"
 cmp -s "$WORK/one/moves.csv" "$WORK/two/moves.csv" || fail "moves.csv: 2 ranks differ from 1"
+# With draws of the uncertain inputs (issue 33) each block's draws travel
+# with it: the same P(chatter), band and expected count from 2 ranks as from 1
+# (the first level alone: two blocks).
+sed '/G0 Z18\./,/^M30/{/^M30/!d}' "$WORK/facing.nc" > "$WORK/facing1.nc"
+UJOB="$SOURCE/examples/uncertainty_toolpath.yaml"
+"$ROBOMILL" toolpath "$UJOB" --set toolpath.file="$WORK/facing1.nc" --set uncertainty.samples=1 \
+  --threads 2 --quiet --out "$WORK/drawn_one" || fail "single process with draws"
+out=$("$MPIEXEC" --allow-run-as-root --oversubscribe -np 2 "$ROBOMILL" toolpath "$UJOB" \
+  --set toolpath.file="$WORK/facing1.nc" --set uncertainty.samples=1 --threads 1 \
+  --out "$WORK/drawn_two" 2>&1) || fail "mpirun -np 2 with draws: $out"
+cmp -s "$WORK/drawn_one/samples.csv" "$WORK/drawn_two/samples.csv" \
+  || fail "samples.csv with draws: 2 ranks differ from 1"
+cmp -s <(grep -v elapsed "$WORK/drawn_one/summary.json") \
+  <(grep -v elapsed "$WORK/drawn_two/summary.json") \
+  || fail "summary.json with draws: 2 ranks differ from 1"
+grep -q '"expected_chatter_samples"' "$WORK/drawn_two/summary.json" \
+  || fail "the MPI run with draws lacks the expected count"
+samples=$(grep -m1 '"samples":' "$WORK/drawn_one/summary.json" | tr -dc 0-9)
+[ "${samples:-0}" -gt 4096 ] || fail "the one-level program should span two blocks: $samples"
 # A bad job fails on every rank with the reason, exit 2, no output.
 out=$("$MPIEXEC" --allow-run-as-root --oversubscribe -np 2 "$ROBOMILL" toolpath "$JOB" \
   --set toolpath.file="$WORK/missing.nc" --out "$WORK/bad" 2>&1) && fail "missing program accepted"

@@ -17,6 +17,7 @@
 #include <cstddef>
 #include <functional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "robomill/job/job.hpp"
@@ -52,6 +53,14 @@ job::Job job_of_draw(const job::Job& nominal, const JobDraws& draws, std::size_t
 /// engagement, and what depends on the cut's geometry alone (the A0 basis of
 /// the zero-order method) is the same for all draws.
 bool draws_keep_the_cut(const job::Job& job);
+
+/// For analyses that keep the nominal postures and cut for every draw (the
+/// robot along a program: `what` names it): throws InputError naming the
+/// first variable whose path sets anything but cutting coefficients,
+/// stability settings, modes or the robot's stiffness, damping and masses
+/// (its kinematics, the placement, the tool and the program would move the
+/// postures or the engagement).
+void require_draws_keep_the_postures(const job::Job& job, std::string_view what);
 
 /// Runs `body(i)` for every draw i on up to `threads` threads (0: all
 /// cores), for analyses that compute something per draw and write it to

@@ -87,6 +87,9 @@ struct ProgramRun {
   /// totals) and the totals with the worst lines' advice.
   std::optional<analysis::RobotPathSetup> robot_setup;
   std::unique_ptr<robot_path::RobotAlongPath> robot;
+  /// With a robot and an uncertainty: section (issue 33): the draws, and
+  /// each drawn job's setup (the robot's draws refer to their models).
+  std::optional<RobotPathDraws> draws;
   std::optional<robot_path::RobotPathSummary> robot_summary;
   /// With ProgramRunOptions::optimize.
   std::optional<ProgramImprovement> improvement;

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "robomill/analysis/job_draws.hpp"
 #include "robomill/job/job.hpp"
 #include "robomill/robot/robot_model.hpp"
 #include "robomill/robot_path/feed_schedule.hpp"
@@ -31,5 +32,20 @@ struct RobotPathSetup {
 /// robot or a workpiece pose, a robot without a posture to start from, a
 /// structure that cannot be had at every posture).
 std::optional<RobotPathSetup> robot_path_setup(const job::Job& job, int threads);
+
+/// The draws of the job's uncertain inputs (its uncertainty: section) on the
+/// robot along its program (issue 33): each drawn job's setup and cutting
+/// law, at the nominal postures.
+struct RobotPathDraws {
+  JobDraws draws;
+  std::vector<RobotPathSetup> setups;  ///< per draw (its structure refers to its model)
+  std::vector<cutting::CuttingLaw> laws;
+  /// What RobotAlongPath::set_draws takes (refers to `setups`' models).
+  std::vector<robot_path::PathDraw> path_draws() const;
+};
+
+/// Throws InputError naming the variable whose path would move the postures
+/// or the cut (require_draws_keep_the_postures), or a draw the job refuses.
+RobotPathDraws robot_path_draws(const job::Job& job, int threads);
 
 }  // namespace robomill::analysis

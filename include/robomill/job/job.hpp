@@ -319,6 +319,9 @@ struct RobotPathJobSettings {
   int check_every = 25;         ///< `check_every`: interpolated samples also computed exactly
   double risk_margin = 1.0;     ///< `risk_margin`: at risk when a_lim < risk_margin × ap
   int worst_lines = 10;         ///< `worst_lines`
+  /// `max_chatter_probability`: with an uncertainty: section, the lines
+  /// whose P(chatter) over the draws exceeds it are reported (issue 33).
+  double max_chatter_probability = 0.05;
   /// `redundancy_search: {from, to, count}` (deg): the angles --optimize
   /// tries for the whole program; empty: ψ stays.
   std::vector<double> redundancy_search_rad;

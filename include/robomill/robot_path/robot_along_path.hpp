@@ -43,6 +43,7 @@
 #include <span>
 #include <string>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 #include "robomill/cutting/cutting_law.hpp"
@@ -52,6 +53,7 @@
 #include "robomill/robot/posture_interpolation.hpp"
 #include "robomill/robot/robot_model.hpp"
 #include "robomill/stability/process_damping.hpp"
+#include "robomill/stability/zero_order.hpp"
 #include "robomill/toolpath/program_analysis.hpp"
 
 namespace robomill::robot_path {
@@ -141,6 +143,20 @@ struct RobotPathSettings {
   } offset;
   int threads = 0;  ///< 0: all cores
   std::size_t worst_lines = 10;
+  /// With draws (RobotAlongPath::set_draws): a program line is listed when
+  /// P(chatter) over the draws exceeds this at one of its samples.
+  double max_chatter_probability = 0.05;
+};
+
+/// One draw of a job's uncertain inputs (issue 33, docs/uncertainty.md)
+/// along the program: the structure at every posture, the cutting law and
+/// the stability settings of the drawn job (analysis::robot_path_setup of
+/// it). The draws keep the nominal postures: what they draw is structure and
+/// coefficients, not kinematics or the cut.
+struct PathDraw {
+  PostureStructure structure;
+  cutting::CuttingLaw law;
+  PathStabilitySettings stability;
 };
 
 /// What the robot does at one sample.
@@ -177,6 +193,24 @@ struct RobotSample {
   /// 004's steady-state offset d_i (RobotPathSettings::offset's measure), m.
   double steady_offset_m = 0.0;
   bool has_offset = false;  ///< steady_offset_m was computed at this sample
+  // Over the draws of the uncertain inputs (RobotAlongPath::set_draws), at
+  // this sample's posture and engagement: each draw's limit by the same
+  // shortcut as the nominal one.
+  bool drawn = false;         ///< the draws' limits were computed here
+  double p_chatter = 0.0;     ///< the fraction of draws whose limit is ≤ ap
+  double p_chatter_se = 0.0;  ///< its binomial standard error √(p(1 − p)/n)
+  /// The draws' 5 % and 95 % quantiles of the limit (depth_max where a draw
+  /// is not limited, as depth_limit_m).
+  double depth_limit_q05_m = 0.0, depth_limit_q95_m = 0.0;
+};
+
+/// A program line whose P(chatter) over the draws exceeds the bound, at its
+/// sample of highest probability.
+struct RiskyLine {
+  int line = 0;
+  double t_s = 0.0;
+  double p_chatter = 0.0, p_chatter_se = 0.0;
+  double axial_depth_m = 0.0, depth_limit_m = 0.0, depth_limit_q05_m = 0.0;
 };
 
 /// One program line among the worst, with the advice for it.
@@ -218,6 +252,21 @@ struct RobotPathSummary {
   int min_singularity_line = 0;
   std::vector<WorstLine> worst_lines;  ///< by margin, then form error; one per line
   std::vector<std::string> notes;
+  // With draws (RobotAlongPath::set_draws):
+  std::size_t draws = 0;
+  /// Per draw, its samples that chatter (ap ≥ the draw's limit).
+  std::vector<double> draw_chatter_samples;
+  /// The expected number of chattering samples (the mean of
+  /// draw_chatter_samples, Σ p_chatter) and its standard error (the draws'
+  /// spread of the count / √n: the samples of one draw are not independent).
+  double expected_chatter_samples = 0.0, expected_chatter_samples_se = 0.0;
+  double max_p_chatter = 0.0, max_p_chatter_se = 0.0;
+  int max_p_chatter_line = 0;
+  /// The lines over RobotPathSettings::max_chatter_probability, in program
+  /// order.
+  std::vector<RiskyLine> risky_lines;
+  std::size_t draw_exact_limits = 0;     ///< the draws' zero-order solves
+  double draw_shortcut_max_error = 0.0;  ///< the largest checked error over the draws
 };
 
 /// The shortcut's cost and check over a block of samples: limits solved
@@ -226,6 +275,11 @@ struct RobotPathSummary {
 struct ShortcutChecks {
   std::size_t exact = 0, checked = 0;
   double max_error = 0.0;
+  /// With draws: the same over all draws, and per draw the block's
+  /// chattering samples.
+  std::size_t draw_exact = 0;
+  double draw_max_error = 0.0;
+  std::vector<double> draw_chatter_samples;
 };
 
 /// A RobotSample as `packed_size(dof)` doubles, to send between processes
@@ -264,6 +318,14 @@ class RobotAlongPath {
   /// The totals so far, with the worst lines' advice computed.
   RobotPathSummary finish();
 
+  /// Draws of the uncertain inputs (before the first block): compute() then
+  /// also gives every sample with a limit its P(chatter) over them and the
+  /// band of its limit (RobotSample::drawn …), and record() the expected
+  /// number of chattering samples and the lines over the bound. The draws run
+  /// in parallel, each through the same shortcut as the nominal limits.
+  void set_draws(std::vector<PathDraw> draws);
+  std::size_t draw_count() const noexcept { return draws_.size(); }
+
   /// The robot at a sample with redundancy angle ψ = `redundancy_rad`, or,
   /// where the sample is oriented (PathSample::tool_x, a KRL frame), the
   /// program's own ψ turned by `redundancy_rad`; the inverse kinematics
@@ -280,6 +342,10 @@ class RobotAlongPath {
   std::vector<stability::ZeroOrderLimit> limits_at(const toolpath::PathSample& sample,
                                                    const Eigen::VectorXd& q_rad,
                                                    const std::vector<double>& speeds_rad_s) const;
+
+  /// direct_limit for draw `draw` (set_draws) at the nominal posture q.
+  stability::ZeroOrderLimit draw_limit(std::size_t draw, const toolpath::PathSample& sample,
+                                       const Eigen::VectorXd& q_rad) const;
 
   /// Cell-frame origins of the robot's joint frames, base to tool tip, at q.
   std::vector<Eigen::Vector3d> joint_origins(const Eigen::VectorXd& q_rad) const;
@@ -306,12 +372,28 @@ class RobotAlongPath {
   using ArcKey = std::tuple<const tool::Tool*, double, double, double>;
   mutable std::map<ArcKey, Eigen::Matrix3d> a0_cache_;  // A0 per cutter and engaged arc
   mutable std::mutex a0_mutex_;
+  // The draws, and the A0 of their laws: per arc the basis for linear laws
+  // (A0 is linear in the coefficients, zero_order.hpp), per draw and arc
+  // otherwise.
+  std::vector<PathDraw> draws_;
+  mutable std::map<ArcKey, stability::MeanCuttingStiffnessBasis> basis_cache_;
+  mutable std::vector<std::map<ArcKey, Eigen::Matrix3d>> draw_a0_cache_;
+  // Per program line, the sample of highest P(chatter) so far (record()).
+  std::optional<std::pair<int, RiskyLine>> open_line_;
   using ForceKey = std::tuple<const tool::Tool*, double, double, double, double, double>;
   mutable std::map<ForceKey, std::shared_ptr<const planning::ForceHarmonics>> force_cache_;
   mutable std::mutex force_mutex_;
   double offset_sum_m_ = 0.0;
 
   Eigen::Matrix3d mean_stiffness(const tool::Tool& tool, const toolpath::PathSample& sample) const;
+  Eigen::Matrix3d draw_mean_stiffness(std::size_t draw, const tool::Tool& tool,
+                                      const toolpath::PathSample& sample) const;
+  /// The limits with a structure, law and stability settings, A0 from `a0`.
+  std::vector<stability::ZeroOrderLimit> limits_with(
+      const toolpath::PathSample& sample, const Eigen::VectorXd& q_rad,
+      const std::vector<double>& speeds_rad_s, const PostureStructure& structure,
+      const cutting::CuttingLaw& law, const PathStabilitySettings& stability,
+      const std::function<Eigen::Matrix3d(const tool::Tool&)>& a0) const;
 
   void posture(const toolpath::PathSample& sample, RobotSample& out);
   void deflect(const toolpath::PathSample& sample, RobotSample& out) const;
@@ -322,6 +404,16 @@ class RobotAlongPath {
   void steady_offset(const toolpath::PathSample& sample, RobotSample& out) const;
   ShortcutChecks limits(std::span<const toolpath::PathSample> samples,
                         std::span<RobotSample> out) const;
+  /// The shortcut with any exact limit, on `threads` threads.
+  using LimitAt =
+      std::function<stability::ZeroOrderLimit(const toolpath::PathSample&, const Eigen::VectorXd&)>;
+  ShortcutChecks shortcut_limits(std::span<const toolpath::PathSample> samples,
+                                 std::span<RobotSample> out, const LimitAt& limit_at,
+                                 int threads) const;
+  void draw_limits(std::span<const toolpath::PathSample> samples, std::span<RobotSample> out,
+                   ShortcutChecks& checks) const;
+  void tally_draws(const toolpath::PathSample& sample, const RobotSample& out);
+  void close_line();
   void tally(const toolpath::PathSample& sample, const RobotSample& out);
 };
 

@@ -192,7 +192,8 @@ class ZeroOrderSolver {
 
  private:
   void build();  // track() and extend the grid while curves stay below depth_max
-  void track();  // eigenvalues and branch tracking on grid_
+  /// Eigenvalues (where not `known` yet) and branch tracking on grid_.
+  void track(std::vector<Eigen::Vector3cd>& raw, std::vector<char>& known);
   /// Eigenvalues of A0 G(ω) (first `branches_` entries meaningful).
   Eigen::Vector3cd eigenvalues(double omega_rad_s) const;
   /// Refines the crossing of branch b, lobe k in grid interval [i, i+1].

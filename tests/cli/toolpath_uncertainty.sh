@@ -1,0 +1,73 @@
+#!/usr/bin/env bash
+# `robomill toolpath` with an uncertainty: section (issue 33, deliverable 4):
+# P(chatter) and the band of the stable depth per sample, the expected
+# number of chattering samples and the lines over the bound, all consistent
+# with samples.csv; a tiny spread gives the nominal verdicts; the report's
+# figure; refusals of what would move the postures.
+source "$(dirname "$0")/lib.bash"
+PY=/usr/bin/python3
+JOB="$SOURCE/examples/uncertainty_toolpath.yaml"
+out="$WORK/drawn"
+"$ROBOMILL" toolpath "$JOB" --set uncertainty.samples=12 --out "$out" > "$WORK/console.txt" \
+  || fail "exit code"
+grep -q "uncertainty: 12 draws, expected chattering samples" "$WORK/console.txt" \
+  || fail "the console does not give the draws: $(cat "$WORK/console.txt")"
+head -1 "$out/samples.csv" | grep -q ",p_chatter,p_chatter_se,ap_limit_q05_mm,ap_limit_q95_mm$" \
+  || fail "samples.csv header: $(head -1 "$out/samples.csv")"
+grep -qi 'nan\|inf' "$out/summary.json" "$out/samples.csv" && fail "non-finite number written"
+grep -q "Chatter probability along the program" "$out/report.html" \
+  || fail "the report lacks the chatter-probability figure"
+"$PY" - "$out/samples.csv" "$out/summary.json" <<'EOF' || fail "samples.csv against summary.json"
+import csv, json, math, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+u = json.load(open(sys.argv[2]))["robot_along_path"]["uncertainty"]
+n = u["draws"]
+assert n == 12 and u["source"] == "sobol", u
+assert u["variables"] == ["joint_stiffness", "damping", "coefficients"], u["variables"]
+drawn = [r for r in rows if r["p_chatter"] != ""]
+assert drawn, "no sample with P(chatter)"
+# Exactly the samples with a stable depth have draws.
+assert all((r["p_chatter"] != "") == (r["ap_limit_mm"] != "") for r in rows)
+total, lines = 0.0, {}
+for r in drawn:
+    p, se = float(r["p_chatter"]), float(r["p_chatter_se"])
+    assert 0 <= p <= 1 and abs(p * n - round(p * n)) < 1e-9, p       # a count of draws
+    assert abs(se - math.sqrt(p * (1 - p) / n)) < 1e-9, (p, se)
+    assert float(r["ap_limit_q05_mm"]) <= float(r["ap_limit_q95_mm"]) * (1 + 1e-12), r
+    total += p
+    line = int(r["line"])
+    lines[line] = max(lines.get(line, 0.0), p)
+assert abs(u["expected_chatter_samples"] - total) <= 1e-6 * max(total, 1), (u, total)
+bound = u["max_chatter_probability"]
+assert bound == 0.05, bound
+over = sorted(l for l, p in lines.items() if p > bound)
+listed = sorted({l["line"] for l in u["lines_over_bound"]})
+assert listed == over, (listed, over)
+assert u["lines_over_bound_count"] == len(u["lines_over_bound"])
+best = max(drawn, key=lambda r: float(r["p_chatter"]))
+assert abs(u["max_p_chatter"] - float(best["p_chatter"])) < 1e-12, u
+EOF
+
+# A tiny spread: every draw is the nominal job to 1e-9, so P(chatter) is the
+# nominal verdict wherever the depth is not within 1e-6 of the limit.
+TINY='uncertainty.variables=[{name: joint_stiffness, path: robot.joint_stiffness, mode: scale, distribution: lognormal, sigma: 1e-9}]'
+"$ROBOMILL" toolpath "$JOB" --set uncertainty.samples=4 --set "$TINY" --out "$WORK/tiny" --quiet \
+  || fail "tiny spread exit code"
+"$PY" - "$WORK/tiny/samples.csv" "$WORK/tiny/summary.json" <<'EOF' || fail "tiny spread is not nominal"
+import csv, json, sys
+rows = [r for r in csv.DictReader(open(sys.argv[1])) if r["p_chatter"] != ""]
+along = json.load(open(sys.argv[2]))["robot_along_path"]
+for r in rows:
+    ap, limit = float(r["ap_mm"]), float(r["ap_limit_mm"])
+    assert abs(float(r["ap_limit_q05_mm"]) - limit) <= 1e-5 * limit, r
+    if abs(ap - limit) > 1e-6 * limit:
+        assert float(r["p_chatter"]) == float(r["chatter"]), r
+assert along["uncertainty"]["expected_chatter_samples"] == along["chatter_samples"], along
+EOF
+
+# What moves the postures or the cut cannot be drawn along a program.
+expect_exit2 "uncertainty.variables[0].path" toolpath "$JOB" --set uncertainty.samples=4 \
+  --set 'uncertainty.variables=[{name: reach, path: robot.dh.1.a, distribution: normal, sd: 1 %}]'
+expect_exit2 "robot_path.max_chatter_probability" toolpath "$JOB" \
+  --set robot_path.max_chatter_probability=0
+finish
