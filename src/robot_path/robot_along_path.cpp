@@ -25,6 +25,7 @@
 #include "robomill/robot/stiffness.hpp"
 #include "robomill/stability/regenerative_model.hpp"
 #include "robomill/stability/zero_order.hpp"
+#include "robomill/uncertainty/sample_statistics.hpp"
 
 namespace robomill::robot_path {
 namespace {

@@ -43,6 +43,7 @@ run optimize        optimize   "$EX/004_kr300_pose_optimization.yaml"
 run advise          advise     "$EX/003_kr270_cutting_advice.yaml"
 run surface         surface    "$EX/001_case_5_surface.yaml"
 run toolpath        toolpath   "$EX/toolpath_pocket_gcode.yaml"
+run toolpath-uncertainty toolpath "$EX/uncertainty_toolpath.yaml" --set uncertainty.samples=8
 run listen          listen     "$EX/listen/benchmark_displacement_wav.yaml"
 run identify-stiffness identify-stiffness "$EX/data/000_kr600_loading_tests.csv" \
     --job "$EX/000_kr600_multipoint.yaml"

@@ -54,23 +54,10 @@ const std::string kRobotVariables =
     "    - {name: damping, path: robot.damping_ratio, mode: scale, distribution: lognormal, "
     "sigma: 0.35}\n";
 
-// A sample of a down-milling side cut along +x (ae 2.5 mm of a 10 mm cutter).
+// A sample of a down-milling side cut along +x (ae 2.5 mm of a 10 mm
+// cutter) at 8300 rpm.
 toolpath::PathSample side_cut(double x_m, double ap_m, int line) {
-  toolpath::PathSample s;
-  s.line = line;
-  s.tip_m = {x_m, 20e-3, 17e-3};
-  s.axis = Eigen::Vector3d::UnitZ();
-  s.feed_direction = Eigen::Vector3d::UnitX();
-  s.feed_m_s = 0.01;
-  s.spindle_rad_s = 8300.0 * 2.0 * kPi / 60.0;
-  s.feed_per_tooth_m = 0.05e-3;
-  s.analysed = true;
-  s.axial_depth_m = ap_m;
-  s.entry_rad = kPi - std::acos(1.0 - 2.5 / 5.0);
-  s.exit_rad = kPi;
-  s.engaged_rad = s.exit_rad - s.entry_rad;
-  s.arcs = 1;
-  return s;
+  return support::side_cut_sample(x_m, kPi - std::acos(1.0 - 2.5 / 5.0), kPi, line, ap_m, 8300.0);
 }
 
 struct Cell {
@@ -106,19 +93,19 @@ struct Cell {
 TEST(PathDraws, CommonCuttingFactorGivesTheClosedFormProbability) {
   const double sigma = 0.2;
   Cell cell("robot_path: {tolerance: 1 %, max_span: 16, check_every: 4}\n" +
-            uncertainty_yaml(64, coefficient_factor("0.2")));
+            uncertainty_yaml(48, coefficient_factor("0.2")));
   // The nominal limits first, then depths from 0.75 to 1.35 times them
   // (A0 and so the limits do not depend on ap).
   std::vector<toolpath::PathSample> samples;
-  for (int i = 0; i < 24; ++i)
-    samples.push_back(side_cut((5.0 + 1.7 * i) * 1e-3, 1e-3, 10 + i / 6));
+  for (int i = 0; i < 18; ++i)
+    samples.push_back(side_cut((5.0 + 2.3 * i) * 1e-3, 1e-3, 10 + i / 6));
   RobotAlongPath probe = cell.along();
   std::vector<RobotSample> nominal(samples.size());
   probe.evaluate(samples, nominal);
   for (std::size_t i = 0; i < samples.size(); ++i) {
     ASSERT_TRUE(nominal[i].stability && nominal[i].limited) << i;
     samples[i].axial_depth_m =
-        nominal[i].depth_limit_m * (0.75 + 0.6 * static_cast<double>(i) / 23.0);
+        nominal[i].depth_limit_m * (0.75 + 0.6 * static_cast<double>(i) / 17.0);
   }
   RobotAlongPath along = cell.along();
   along.set_draws(cell.draws.path_draws());
@@ -153,7 +140,7 @@ TEST(PathDraws, CommonCuttingFactorGivesTheClosedFormProbability) {
     EXPECT_NEAR(out[i].depth_limit_q05_m, q05, 1e-9 * q05);
     EXPECT_NEAR(out[i].depth_limit_q95_m, q95, 1e-9 * q95);
   }
-  EXPECT_GT(interior, 6) << "the depths should sweep through the band";
+  EXPECT_GT(interior, 4) << "the depths should sweep through the band";
   const RobotPathSummary summary = along.finish();
   // Σ p over the samples is the mean count of chattering samples per draw.
   double sum = 0.0;
@@ -161,21 +148,21 @@ TEST(PathDraws, CommonCuttingFactorGivesTheClosedFormProbability) {
     sum += r.p_chatter;
   EXPECT_NEAR(summary.expected_chatter_samples, sum, 1e-9 * sum);
   EXPECT_GT(summary.expected_chatter_samples_se, 0.0);
-  EXPECT_EQ(summary.draws, 64u);
+  EXPECT_EQ(summary.draws, 48u);
   EXPECT_GT(summary.draw_exact_limits, 0u);
 }
 
 // The robot itself drawn (joint stiffness and damping): at every sample of
-// a cut whose depth steps up at four places along the part, P(chatter) is
+// a cut whose depth steps up at three places along the part, P(chatter) is
 // the fraction of the draws' limits recomputed directly (every sample exact
 // here: max_span 1) at or below the depth, never decreasing with the depth
 // at one place; the band holds the draws' quantiles and the nominal limit;
 // the thread count changes nothing.
 TEST(PathDraws, RobotDrawsAreEachDrawsOwnLimitAtThePosture) {
-  Cell cell("robot_path: {max_span: 1}\n" + uncertainty_yaml(16, kRobotVariables));
+  Cell cell("robot_path: {max_span: 1}\n" + uncertainty_yaml(12, kRobotVariables));
   const std::vector<double> depths_mm = {0.37, 0.81, 1.29, 1.93, 2.71};
   std::vector<toolpath::PathSample> samples;
-  for (int place = 0; place < 4; ++place)
+  for (int place = 0; place < 3; ++place)
     for (const double ap_mm : depths_mm)
       samples.push_back(side_cut((7.0 + 9.3 * place) * 1e-3, ap_mm * 1e-3, 20 + place));
   RobotAlongPath along = cell.along(), single = cell.along(1);

@@ -48,24 +48,7 @@ job::Job kr270_job(const std::string& extra = "",
                         overrides);
 }
 
-// A sample of a straight side cut along +x at the given engagement.
-toolpath::PathSample side_cut_sample(double x_m, double entry_rad, double exit_rad, int line = 1) {
-  toolpath::PathSample s;
-  s.line = line;
-  s.tip_m = {x_m, 20e-3, 17e-3};
-  s.axis = Eigen::Vector3d::UnitZ();
-  s.feed_direction = Eigen::Vector3d::UnitX();
-  s.feed_m_s = 0.01;
-  s.spindle_rad_s = 8000.0 * 2.0 * kPi / 60.0;
-  s.feed_per_tooth_m = 0.05e-3;
-  s.analysed = true;
-  s.axial_depth_m = 3e-3;
-  s.entry_rad = entry_rad;
-  s.exit_rad = exit_rad;
-  s.engaged_rad = exit_rad - entry_rad;
-  s.arcs = 1;
-  return s;
-}
+using support::side_cut_sample;
 
 struct Fixture {
   job::Job job;

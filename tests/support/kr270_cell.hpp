@@ -5,7 +5,11 @@
 // modes from the model, a 10 mm three-flute cutter in aluminium, the part on
 // a table in front of it, the zero-order method. Tests append sections.
 
+#include <cmath>
+#include <numbers>
 #include <string>
+
+#include "robomill/toolpath/program_analysis.hpp"
 
 namespace robomill::support {
 
@@ -48,6 +52,28 @@ workpiece:
   pose: {x: 0 mm, y: 0 mm, theta: 0 deg}
 stability: {method: zoa, depth_max: 10 mm, speeds: {from: 6000 rpm, to: 10000 rpm, count: 41}}
 )";
+}
+
+/// A sample of a straight side cut along +x on that part (workpiece frame,
+/// 20 mm in y, 17 mm up) with the given engaged arc, depth and speed.
+inline toolpath::PathSample side_cut_sample(double x_m, double entry_rad, double exit_rad,
+                                            int line = 1, double ap_m = 3e-3,
+                                            double spindle_rpm = 8000.0) {
+  toolpath::PathSample s;
+  s.line = line;
+  s.tip_m = {x_m, 20e-3, 17e-3};
+  s.axis = Eigen::Vector3d::UnitZ();
+  s.feed_direction = Eigen::Vector3d::UnitX();
+  s.feed_m_s = 0.01;
+  s.spindle_rad_s = spindle_rpm * 2.0 * std::numbers::pi / 60.0;
+  s.feed_per_tooth_m = 0.05e-3;
+  s.analysed = true;
+  s.axial_depth_m = ap_m;
+  s.entry_rad = entry_rad;
+  s.exit_rad = exit_rad;
+  s.engaged_rad = exit_rad - entry_rad;
+  s.arcs = 1;
+  return s;
 }
 
 }  // namespace robomill::support
