@@ -108,6 +108,25 @@ std::optional<cutting::MillingProcess> band_process(double entry_rad, double exi
   return process;
 }
 
+namespace {
+
+// A0, or its basis in the coefficients, of a sample's engaged arc by
+// `average(process)`: the arc's band as its straight cut, or an arc inside
+// (0, π) as the up-milling band [0, b] less [0, a] (the period-averaged W is
+// additive over the arc).
+template <class Average>
+auto arc_average(const toolpath::PathSample& sample, double radius_m, const Average& average) {
+  const double spindle = std::abs(sample.spindle_rad_s);
+  if (const auto band = band_process(sample.entry_rad, sample.exit_rad, radius_m, spindle,
+                                     sample.feed_per_tooth_m))
+    return average(*band);
+  auto arc = average(up_band_process(sample.exit_rad, radius_m, spindle, sample.feed_per_tooth_m));
+  arc -= average(up_band_process(sample.entry_rad, radius_m, spindle, sample.feed_per_tooth_m));
+  return arc;
+}
+
+}  // namespace
+
 PostureStructure robot_structure(const robot::RobotModel& model) {
   return [&model](const Eigen::VectorXd& q, const Eigen::Matrix3d& cell_to_milling) {
     return robot::tool_tip_modal_model(model, q, cell_to_milling);
@@ -406,21 +425,10 @@ Eigen::Matrix3d RobotAlongPath::mean_stiffness(const tool::Tool& tool,
     if (const auto it = a0_cache_.find(key); it != a0_cache_.end())
       return it->second;
   }
-  const double radius = 0.5 * tool.diameter_m();
-  const double spindle = std::abs(sample.spindle_rad_s);
-  Eigen::Matrix3d a0;
-  if (const auto process = band_process(sample.entry_rad, sample.exit_rad, radius, spindle,
-                                        sample.feed_per_tooth_m)) {
-    a0 = stability::mean_cutting_stiffness_per_depth(tool, law_, *process);
-  } else {
-    // An arc inside (0, π): the period-averaged W is additive over the arc,
-    // so A0 of [a, b] is A0 of the up-milling band [0, b] less that of [0, a].
-    auto up_band = [&](double exit) {
-      return stability::mean_cutting_stiffness_per_depth(
-          tool, law_, up_band_process(exit, radius, spindle, sample.feed_per_tooth_m));
-    };
-    a0 = up_band(sample.exit_rad) - up_band(sample.entry_rad);
-  }
+  const Eigen::Matrix3d a0 =
+      arc_average(sample, 0.5 * tool.diameter_m(), [&](const cutting::MillingProcess& process) {
+        return stability::mean_cutting_stiffness_per_depth(tool, law_, process);
+      });
   const std::lock_guard lock(a0_mutex_);
   a0_cache_.emplace(key, a0);
   return a0;
@@ -442,35 +450,19 @@ Eigen::Matrix3d RobotAlongPath::draw_mean_stiffness(std::size_t draw, const tool
     }
   }
   const double radius = 0.5 * tool.diameter_m();
-  const double spindle = std::abs(sample.spindle_rad_s);
-  // As mean_stiffness: the band's own process, or an inner arc [a, b] as the
-  // up-milling band [0, b] less [0, a].
-  auto up_band = [&](double exit) {
-    return up_band_process(exit, radius, spindle, sample.feed_per_tooth_m);
-  };
-  const auto band =
-      band_process(sample.entry_rad, sample.exit_rad, radius, spindle, sample.feed_per_tooth_m);
   if (linear) {
     // A0 is linear in (Ktc, Krc, Kac) (000 Eq 14): one basis per arc serves
     // every draw's coefficients.
-    stability::MeanCuttingStiffnessBasis basis;
-    if (band) {
-      basis = stability::mean_cutting_stiffness_basis(tool, law, *band);
-    } else {
-      basis = stability::mean_cutting_stiffness_basis(tool, law, up_band(sample.exit_rad));
-      const stability::MeanCuttingStiffnessBasis entry =
-          stability::mean_cutting_stiffness_basis(tool, law, up_band(sample.entry_rad));
-      for (std::size_t c = 0; c < basis.per_shear_coefficient.size(); ++c)
-        basis.per_shear_coefficient[c] -= entry.per_shear_coefficient[c];
-    }
+    const stability::MeanCuttingStiffnessBasis basis =
+        arc_average(sample, radius, [&](const cutting::MillingProcess& process) {
+          return stability::mean_cutting_stiffness_basis(tool, law, process);
+        });
     const std::lock_guard lock(a0_mutex_);
     return basis_cache_.emplace(key, basis).first->second(*linear);
   }
-  const Eigen::Matrix3d a0 =
-      band ? stability::mean_cutting_stiffness_per_depth(tool, law, *band)
-           : Eigen::Matrix3d(
-                 stability::mean_cutting_stiffness_per_depth(tool, law, up_band(sample.exit_rad)) -
-                 stability::mean_cutting_stiffness_per_depth(tool, law, up_band(sample.entry_rad)));
+  const Eigen::Matrix3d a0 = arc_average(sample, radius, [&](const cutting::MillingProcess& p) {
+    return stability::mean_cutting_stiffness_per_depth(tool, law, p);
+  });
   const std::lock_guard lock(a0_mutex_);
   draw_a0_cache_[draw].emplace(key, a0);
   return a0;

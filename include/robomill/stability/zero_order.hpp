@@ -44,6 +44,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <complex>
+#include <cstddef>
 #include <functional>
 #include <vector>
 
@@ -129,6 +130,13 @@ struct MeanCuttingStiffnessBasis {
   std::array<Eigen::Matrix3d, 3> per_shear_coefficient;
   /// A0 for `law`'s shear coefficients (N/m per m of depth).
   Eigen::Matrix3d operator()(const cutting::LinearLaw& law) const;
+  /// The basis of the difference of two cuts (an arc as one band less
+  /// another: A0 is additive over the engaged arc).
+  MeanCuttingStiffnessBasis& operator-=(const MeanCuttingStiffnessBasis& other) {
+    for (std::size_t c = 0; c < per_shear_coefficient.size(); ++c)
+      per_shear_coefficient[c] -= other.per_shear_coefficient[c];
+    return *this;
+  }
 };
 
 /// The basis of `model`'s cut (its law's coefficients are not used), with
