@@ -492,9 +492,18 @@ CompensationOutcome compensate_program(const job::Job& job, const analysis::Robo
 }  // namespace
 
 void FirstRunRecord::add(const toolpath::PathSample& sample, const robot_path::RobotSample& robot) {
-  at_risk.push_back(robot.stability ? (robot.at_risk ? 1 : 0) : 2);
-  if (robot.stability && (robot.exact || robot.at_risk) && recorded.size() < kMaxRecorded)
-    recorded.push_back({sample, robot.q_rad, robot.margin});
+  // With draws the choices keep P(chatter) within the bound: the margin and
+  // the risk are the draws' limit at the bound's (program_optimization.hpp).
+  const bool risk = robot.drawn ? robot.at_risk_drawn : robot.at_risk;
+  at_risk.push_back(robot.stability ? (risk ? 1 : 0) : 2);
+  if (!robot.stability || !(robot.exact || risk) || recorded.size() >= kMaxRecorded)
+    return;
+  robot_path::RecordedSample r{sample, robot.q_rad, robot.margin};
+  if (robot.drawn && robot.depth_limit_m > 0.0) {
+    r.bound_ratio = robot.depth_limit_at_bound_m / robot.depth_limit_m;
+    r.margin = robot.depth_limit_at_bound_m / sample.axial_depth_m;
+  }
+  recorded.push_back(r);
 }
 
 Percentiles percentiles(std::vector<double> values) {
@@ -733,13 +742,16 @@ void run_after(const job::Job& job, const analysis::RobotPathSetup& setup,
                const toolpath::Tooling& tooling,
                const robot_path::RobotPathSettings& after_settings,
                const toolpath::ProgramAnalysisSettings& analysis_settings,
-               const toolpath::Program& rewritten, const FirstRunRecord& record, bool compensate,
+               const toolpath::Program& rewritten, const FirstRunRecord& record,
+               const std::vector<robot_path::PathDraw>& draws, bool compensate,
                ProgramImprovement& out, robot_path::CompensationSettings& compensation,
                std::optional<robot_path::PathCorrections>& corrections,
                std::vector<double>& wall_errors_m) {
   toolpath::DexelStock stock = job_stock(job);
   robot_path::RobotAlongPath after(*setup.model, setup.structure, tooling, *job.cutting,
                                    setup.stability, after_settings);
+  // With draws the re-run measures P(chatter) with every one of them.
+  after.set_draws(draws);
   AfterRun& rerun = out.after.emplace();
   // The fastest joint along the re-run: between neighbouring samples of a move.
   std::size_t last_move = SIZE_MAX;
@@ -781,12 +793,13 @@ void run_after(const job::Job& job, const analysis::RobotPathSetup& setup,
           const unsigned char was = index < record.at_risk.size() ? record.at_risk[index] : 2;
           if (!r.stability || was == 2)
             continue;
-          if (r.at_risk && was == 0) {
+          const bool risk = r.drawn ? r.at_risk_drawn : r.at_risk;
+          if (risk && was == 0) {
             ++rerun.newly_at_risk;
             if (rerun.first_newly_at_risk_line == 0)
               rerun.first_newly_at_risk_line = block[i].line;
           }
-          rerun.relieved += !r.at_risk && was == 1 ? 1 : 0;
+          rerun.relieved += !risk && was == 1 ? 1 : 0;
         }
       });
   rerun.robot = after.finish();
@@ -914,8 +927,8 @@ ProgramImprovement improve_program(const job::Job& job, const toolpath::Program&
   std::optional<robot_path::PathCorrections> corrections;
   std::vector<double> wall_errors_m;  // |form error| at the wall samples before compensation
   robot_path::CompensationSettings compensation;
-  run_after(job, setup, tooling, after_settings, analysis_settings, rewritten, record, compensate,
-            out, compensation, corrections, wall_errors_m);
+  run_after(job, setup, tooling, after_settings, analysis_settings, rewritten, record,
+            before.draws(), compensate, out, compensation, corrections, wall_errors_m);
   const AfterRun& rerun = *out.after;
   const bool turn_all = psi.turns_frames && psi.choice && psi.choice->changed();
   const bool turn_each = psi.turns_frames && psi.schedule && psi.schedule->changed();

@@ -13,6 +13,7 @@
 #include "robomill/stability/regenerative_model.hpp"
 #include "robomill/stability/zero_order.hpp"
 #include "robomill/tool/tool.hpp"
+#include "robomill/uncertainty/sample_statistics.hpp"
 
 namespace robomill::analysis {
 namespace {
@@ -101,21 +102,15 @@ class DrawLimits {
 /// The deepest depth with P(chatter) ≤ p over the draws' limits at one
 /// speed: the (⌊p n⌋ + 1)-th smallest limit, depth_max where that draw (or
 /// every draw, p n ≥ n) is stable up to depth_max.
-stability::LobePoint robust_limit(double spindle_rad_s, std::vector<double> limits,
+stability::LobePoint robust_limit(double spindle_rad_s, const std::vector<double>& limits,
                                   double max_chatter_probability, double depth_max_m) {
   stability::LobePoint point;
   point.spindle_rad_s = spindle_rad_s;
   point.depth_limit_m = depth_max_m;
   point.bifurcation = "none";
-  const std::size_t n = limits.size();
-  // The draws that may chatter; 1e-9 keeps p n = 50.000000000000007 at 50.
-  const auto allowed =
-      static_cast<std::size_t>(std::floor(max_chatter_probability * static_cast<double>(n) + 1e-9));
-  if (allowed >= n)
-    return point;
-  const auto at = limits.begin() + static_cast<std::ptrdiff_t>(allowed);
-  std::nth_element(limits.begin(), at, limits.end());
-  if (*at <= depth_max_m) {
+  const std::optional<double> at =
+      uncertainty::value_at_fraction_bound(limits, max_chatter_probability);
+  if (at && *at <= depth_max_m) {
     point.depth_limit_m = *at;
     point.limited = true;
     point.bifurcation = "hopf";

@@ -192,7 +192,7 @@ void add_sample(Row& row, const toolpath::PathSample& s,
 // expected number of chattering samples, the most probable chatter and the
 // lines over the bound.
 nlohmann::json path_uncertainty_json(const analysis::JobDraws& draws,
-                                     const robot_path::RobotAlongPath& along,
+                                     double max_chatter_probability,
                                      const robot_path::RobotPathSummary& r) {
   constexpr std::size_t kListed = 200;
   nlohmann::json lines = nlohmann::json::array();
@@ -209,7 +209,7 @@ nlohmann::json path_uncertainty_json(const analysis::JobDraws& draws,
   return {{"draws", r.draws},
           {"source", draws.source},
           {"variables", draws.names},
-          {"max_chatter_probability", along.settings().max_chatter_probability},
+          {"max_chatter_probability", max_chatter_probability},
           {"expected_chatter_samples", r.expected_chatter_samples},
           {"expected_chatter_samples_se", r.expected_chatter_samples_se},
           {"nominal_chatter_samples", r.chatter},
@@ -222,14 +222,14 @@ nlohmann::json path_uncertainty_json(const analysis::JobDraws& draws,
           {"draw_shortcut_max_error", r.draw_shortcut_max_error}};
 }
 
-std::string path_uncertainty_message(const robot_path::RobotAlongPath& along,
+std::string path_uncertainty_message(double max_chatter_probability,
                                      const robot_path::RobotPathSummary& r) {
   std::string text = fmt::format(
       "  uncertainty: {} draws, expected chattering samples {:.1f} ± {:.1f} (nominal {}); "
       "highest P(chatter) {:.1f} % ± {:.1f} (line {}); {} lines over {:.3g} %",
       r.draws, r.expected_chatter_samples, r.expected_chatter_samples_se, r.chatter,
       r.max_p_chatter * 100.0, r.max_p_chatter_se * 100.0, r.max_p_chatter_line,
-      r.risky_lines.size(), along.settings().max_chatter_probability * 100.0);
+      r.risky_lines.size(), max_chatter_probability * 100.0);
   if (!r.risky_lines.empty()) {
     text += " (";
     for (std::size_t k = 0; k < std::min<std::size_t>(8, r.risky_lines.size()); ++k)
@@ -621,7 +621,8 @@ nlohmann::json compensation_json(const analysis::CompensationOutcome& c) {
 
 // summary.json's `optimization`.
 nlohmann::json improvement_json(const analysis::ProgramImprovement& im,
-                                const analysis::RobotPathSetup& setup) {
+                                const analysis::RobotPathSetup& setup,
+                                const analysis::JobDraws* draws) {
   nlohmann::json out = {{"spindle_choices", spindle_choices_json(im.spindles)},
                         {"redundancy", redundancy_decision_json(im)}};
   if (!setup.stability.advice_speeds_rad_s.empty())
@@ -633,6 +634,13 @@ nlohmann::json improvement_json(const analysis::ProgramImprovement& im,
         "speeds there; the re-run shows the redundancy angle's and the feeds' effect only";
   if (im.feeds)
     out["feeds"] = feeds_json(*im.feeds);
+  if (draws)
+    out["risk_note"] =
+        "with uncertainty the margins and the samples at risk are the draws': a sample's "
+        "margin is the draws' limit at robot_path.max_chatter_probability over ap (at risk: "
+        "P(chatter) over the bound), and a candidate speed's or angle's limit the nominal one "
+        "there times the ratio of bounded to nominal limit at the programmed point; "
+        "'after.uncertainty' is the written program analysed with every draw";
 
   if (!im.changed) {
     out["changed"] = false;
@@ -653,6 +661,12 @@ nlohmann::json improvement_json(const analysis::ProgramImprovement& im,
   out["samples_before"] = im.samples_before;
   out["after"]["redundancy_deg"] = a.redundancy_rad * kDegPerRad;
   out["after"]["max_joint_speed_deg_s"] = a.max_joint_speed_rad_s * kDegPerRad;
+  if (draws) {
+    // The written program with every draw: P(chatter) measured, and the
+    // lines still over the bound where no speed or ψ could bring them under.
+    out["after"]["uncertainty"] =
+        path_uncertainty_json(*draws, setup.settings.max_chatter_probability, a.robot);
+  }
   if (im.compensation)
     out["compensation"] = compensation_json(*im.compensation);
   if (!im.text)
@@ -737,7 +751,9 @@ std::string compensation_message(const analysis::CompensationOutcome& c) {
 }
 
 // The message's optimize lines.
-std::string improvement_message(const analysis::ProgramImprovement& im) {
+std::string improvement_message(const analysis::ProgramImprovement& im,
+                                const analysis::RobotPathSetup& setup,
+                                const analysis::JobDraws* draws) {
   std::string message = redundancy_message(im.redundancy);
   if (im.feeds) {
     const analysis::FeedDecision& f = *im.feeds;
@@ -758,6 +774,10 @@ std::string improvement_message(const analysis::ProgramImprovement& im) {
       "risk, {} newly at risk; cycle time {:.1f} -> {:.1f} s\n",
       im.text ? im.name + " written" : std::string("the program is kept"), im.chatter_before,
       r.chatter, r.min_margin, a.relieved, a.newly_at_risk, im.cycle_time_before_s, a.cycle_time_s);
+  if (draws) {
+    message +=
+        "  after:" + path_uncertainty_message(setup.settings.max_chatter_probability, r).substr(1);
+  }
   return message;
 }
 
@@ -968,18 +988,20 @@ CommandResult compute_toolpath(const job::Job& job, int threads,
     robot_text += unreachable_warning(r);
     summary["robot_along_path"] = robot_summary(*run.robot_setup, *run.robot, r);
     robot_text += robot_path_message(run.robot->model().name(), r);
+    const double bound = run.robot->settings().max_chatter_probability;
     if (run.draws) {
       summary["robot_along_path"]["uncertainty"] =
-          path_uncertainty_json(run.draws->draws, *run.robot, r);
-      robot_text += path_uncertainty_message(*run.robot, r);
+          path_uncertainty_json(run.draws->draws, bound, r);
+      robot_text += path_uncertainty_message(bound, r);
     }
   }
 
   CommandResult result;
   if (run.improvement) {
-    summary["optimization"] = improvement_json(*run.improvement, *run.robot_setup);
+    const analysis::JobDraws* draws = run.draws ? &run.draws->draws : nullptr;
+    summary["optimization"] = improvement_json(*run.improvement, *run.robot_setup, draws);
     add_improvement_files(*run.improvement, result);
-    robot_text += improvement_message(*run.improvement);
+    robot_text += improvement_message(*run.improvement, *run.robot_setup, draws);
   }
   if (samples_file.empty())
     result.tables.emplace_back("samples", std::move(samples));

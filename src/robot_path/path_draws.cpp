@@ -79,6 +79,13 @@ void RobotAlongPath::draw_limits(std::span<const toolpath::PathSample> samples,
         uncertainty::empirical_quantiles(std::span<const double>(&limits[j * n], n), kBand);
     r.depth_limit_q05_m = band[0].value;
     r.depth_limit_q95_m = band[1].value;
+    // P(chatter) = #(limit ≤ ap)/n ≤ p exactly where ap lies below the
+    // (⌊p n⌋ + 1)-th smallest limit (0 < p < 1, checked by the constructor:
+    // there is one).
+    r.depth_limit_at_bound_m = *uncertainty::value_at_fraction_bound(
+        std::span<const double>(&limits[j * n], n), settings_.max_chatter_probability);
+    r.at_risk_drawn =
+        samples[judged[j]].axial_depth_m * settings_.risk_margin >= r.depth_limit_at_bound_m;
   }
 }
 

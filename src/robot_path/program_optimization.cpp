@@ -47,7 +47,7 @@ std::vector<SpindleChoice> choose_spindle_speeds(const RobotAlongPath& along,
     const RecordedSample& r = samples[i];
     const auto limits = along.limits_at(r.sample, Eigen::VectorXd(r.q_rad), candidates_rad_s);
     for (std::size_t k = 0; k < c; ++k)
-      margins[i * c + k] = limits[k].depth_limit_m / r.sample.axial_depth_m;
+      margins[i * c + k] = r.bound_ratio * limits[k].depth_limit_m / r.sample.axial_depth_m;
   });
 
   std::vector<SpindleChoice> choices;
@@ -129,6 +129,7 @@ RedundancyChoice choose_redundancy_angle(const RobotAlongPath& along,
         return;
       moved[i].q_rad = robot.q_rad;
       moved[i].margin =
+          samples[i].bound_ratio *
           along.direct_limit(samples[i].sample, Eigen::VectorXd(robot.q_rad)).depth_limit_m /
           samples[i].sample.axial_depth_m;
     });
@@ -260,7 +261,8 @@ std::vector<At> pose_candidates(const RobotAlongPath& along,
     a.ok = robot.reachable && !robot.joint_limit;
     a.q = robot.q_rad;
     if (a.ok)
-      a.margin = along.direct_limit(r.sample, Eigen::VectorXd(robot.q_rad)).depth_limit_m /
+      a.margin = r.bound_ratio *
+                 along.direct_limit(r.sample, Eigen::VectorXd(robot.q_rad)).depth_limit_m /
                  r.sample.axial_depth_m;
   });
   return at;

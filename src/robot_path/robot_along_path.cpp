@@ -182,6 +182,7 @@ RobotAlongPath::RobotAlongPath(const robot::RobotModel& model, PostureStructure 
     throw std::invalid_argument("robot along the path: at most 8 joints");
   if (!(settings_.tolerance > 0.0) || settings_.max_span < 1 || settings_.check_every < 0 ||
       !(settings_.risk_margin >= 1.0) || !structure_ ||
+      !(settings_.max_chatter_probability > 0.0 && settings_.max_chatter_probability < 1.0) ||
       (settings_.offset.enabled && (settings_.offset.harmonics < 1 ||
                                     settings_.offset.samples < 2 * settings_.offset.harmonics + 1 ||
                                     settings_.offset.axial_elements < 0)))
@@ -844,7 +845,7 @@ std::vector<Eigen::Vector3d> RobotAlongPath::joint_origins(const Eigen::VectorXd
 
 // The layout: the flags and scalars in RobotSample's order, the vectors'
 // components, then q's size and q padded to `dof`.
-constexpr std::size_t kPackedHead = 31;
+constexpr std::size_t kPackedHead = 33;
 std::size_t packed_size(int dof) {
   return kPackedHead + static_cast<std::size_t>(std::max(dof, 0));
 }
@@ -881,6 +882,8 @@ void pack(const RobotSample& r, int dof, double* out) {
                          r.p_chatter_se,
                          r.depth_limit_q05_m,
                          r.depth_limit_q95_m,
+                         r.depth_limit_at_bound_m,
+                         flag(r.at_risk_drawn),
                          static_cast<double>(r.q_rad.size())};
   static_assert(std::size(head) == kPackedHead);
   std::copy(std::begin(head), std::end(head), out);
@@ -916,7 +919,9 @@ RobotSample unpack(const double* in, int dof) {
   r.p_chatter_se = in[27];
   r.depth_limit_q05_m = in[28];
   r.depth_limit_q95_m = in[29];
-  const int size = std::clamp(static_cast<int>(in[30]), 0, std::min(dof, 8));
+  r.depth_limit_at_bound_m = in[30];
+  r.at_risk_drawn = in[31] != 0.0;
+  const int size = std::clamp(static_cast<int>(in[32]), 0, std::min(dof, 8));
   r.q_rad.resize(size);
   for (int j = 0; j < size; ++j)
     r.q_rad[j] = in[kPackedHead + j];

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -117,6 +119,21 @@ Estimate fraction_below(std::span<const double> values, double threshold) {
   const double n = static_cast<double>(values.size());
   const double fraction = static_cast<double>(below) / n;
   return {fraction, std::sqrt(fraction * (1.0 - fraction) / n)};
+}
+
+std::optional<double> value_at_fraction_bound(std::span<const double> values, double p) {
+  check_sample(values, "value at a fraction bound");
+  if (!(p >= 0.0 && p <= 1.0))
+    throw std::invalid_argument("value at a fraction bound: p must lie in [0, 1]");
+  const std::size_t n = values.size();
+  // 1e-9 keeps p n = 50.000000000000007 at 50.
+  const auto allowed = static_cast<std::size_t>(std::floor(p * static_cast<double>(n) + 1e-9));
+  if (allowed >= n)
+    return std::nullopt;
+  std::vector<double> copy(values.begin(), values.end());
+  const auto at = copy.begin() + static_cast<std::ptrdiff_t>(allowed);
+  std::nth_element(copy.begin(), at, copy.end());
+  return *at;
 }
 
 }  // namespace robomill::uncertainty

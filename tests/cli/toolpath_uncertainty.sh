@@ -3,7 +3,8 @@
 # P(chatter) and the band of the stable depth per sample, the expected
 # number of chattering samples and the lines over the bound, all consistent
 # with samples.csv; a tiny spread gives the nominal verdicts; the report's
-# figure; refusals of what would move the postures.
+# figure; --optimize keeping P(chatter) under the bound, its after-numbers
+# those of the written program; refusals of what would move the postures.
 source "$(dirname "$0")/lib.bash"
 PY=/usr/bin/python3
 JOB="$SOURCE/examples/uncertainty_toolpath.yaml"
@@ -63,6 +64,29 @@ for r in rows:
     if abs(ap - limit) > 1e-6 * limit:
         assert float(r["p_chatter"]) == float(r["chatter"]), r
 assert along["uncertainty"]["expected_chatter_samples"] == along["chatter_samples"], along
+EOF
+
+# --optimize under the bound: the choices read the draws' limit at the bound,
+# and the written program's P(chatter) is measured with every draw: the
+# same numbers as `toolpath` on the written program with the same job.
+opt="$WORK/optimized"
+"$ROBOMILL" toolpath "$JOB" --set uncertainty.samples=12 --optimize --out "$opt" \
+  > "$WORK/optimize.txt" || fail "--optimize exit code"
+grep -q "after: uncertainty: 12 draws" "$WORK/optimize.txt" \
+  || fail "the console lacks the written program's draws: $(cat "$WORK/optimize.txt")"
+"$ROBOMILL" toolpath "$JOB" --set uncertainty.samples=12 \
+  --set "toolpath.file=$opt/program_optimized.nc" --out "$WORK/rerun" --quiet \
+  || fail "toolpath on the written program"
+"$PY" - "$opt/summary.json" "$WORK/rerun/summary.json" <<'EOF' || fail "--optimize under the bound"
+import json, sys
+s = json.load(open(sys.argv[1]))
+before, o = s["robot_along_path"]["uncertainty"], s["optimization"]
+assert "draws' limit at robot_path.max_chatter_probability" in o["risk_note"], o["risk_note"]
+after = o["after"]["uncertainty"]
+rerun = json.load(open(sys.argv[2]))["robot_along_path"]["uncertainty"]
+assert after == rerun, (after, rerun)           # measured on the program written
+assert after["lines_over_bound_count"] < before["lines_over_bound_count"], (before, after)
+assert after["expected_chatter_samples"] < before["expected_chatter_samples"], (before, after)
 EOF
 
 # What moves the postures or the cut cannot be drawn along a program.

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <numbers>
 #include <string>
 #include <utility>
@@ -113,6 +114,8 @@ TEST(PathDraws, CommonCuttingFactorGivesTheClosedFormProbability) {
   along.evaluate(samples, out);
   const Eigen::VectorXd factors = cell.draws.draws.values.col(0);
   const double n = static_cast<double>(factors.size());
+  std::vector<double> sorted_factors(factors.begin(), factors.end());
+  std::sort(sorted_factors.begin(), sorted_factors.end(), std::greater<>());
   int interior = 0;
   for (std::size_t i = 0; i < samples.size(); ++i) {
     SCOPED_TRACE("sample " + std::to_string(i));
@@ -139,6 +142,14 @@ TEST(PathDraws, CommonCuttingFactorGivesTheClosedFormProbability) {
     const double q95 = uncertainty::empirical_quantile(scaled, 0.95).value;
     EXPECT_NEAR(out[i].depth_limit_q05_m, q05, 1e-9 * q05);
     EXPECT_NEAR(out[i].depth_limit_q95_m, q95, 1e-9 * q95);
+    // The limit at the 5 % bound: with 48 draws ⌊0.05 · 48⌋ = 2 may chatter,
+    // so it is a over the third largest factor, at every sample the same
+    // fraction of the nominal limit (what --optimize scales a candidate's
+    // limit by is exact here).
+    const double bound = a / sorted_factors[2];
+    EXPECT_NEAR(out[i].depth_limit_at_bound_m, bound, 1e-9 * bound);
+    EXPECT_EQ(out[i].at_risk_drawn, ap >= out[i].depth_limit_at_bound_m);
+    EXPECT_EQ(out[i].at_risk_drawn, out[i].p_chatter > 0.05) << "at risk: P over the bound";
   }
   EXPECT_GT(interior, 4) << "the depths should sweep through the band";
   const RobotPathSummary summary = along.finish();
@@ -159,7 +170,8 @@ TEST(PathDraws, CommonCuttingFactorGivesTheClosedFormProbability) {
 // at one place; the band holds the draws' quantiles and the nominal limit;
 // the thread count changes nothing.
 TEST(PathDraws, RobotDrawsAreEachDrawsOwnLimitAtThePosture) {
-  Cell cell("robot_path: {max_span: 1}\n" + uncertainty_yaml(12, kRobotVariables));
+  Cell cell("robot_path: {max_span: 1, max_chatter_probability: 0.19}\n" +
+            uncertainty_yaml(12, kRobotVariables));
   const std::vector<double> depths_mm = {0.37, 0.81, 1.29, 1.93, 2.71};
   std::vector<toolpath::PathSample> samples;
   for (int place = 0; place < 3; ++place)
@@ -184,6 +196,12 @@ TEST(PathDraws, RobotDrawsAreEachDrawsOwnLimitAtThePosture) {
       chatter += samples[i].axial_depth_m >= limit ? 1 : 0;
     }
     EXPECT_EQ(out[i].p_chatter, static_cast<double>(chatter) / static_cast<double>(n));
+    // The limit at the 19 % bound: ⌊0.19 · 12⌋ = 2 draws may chatter, so
+    // the third smallest; P(chatter) within the bound exactly below it.
+    std::vector<double> sorted = limits;
+    std::sort(sorted.begin(), sorted.end());
+    EXPECT_EQ(out[i].depth_limit_at_bound_m, sorted[2]);
+    EXPECT_EQ(out[i].at_risk_drawn, out[i].p_chatter > 0.19);
     EXPECT_EQ(out[i].depth_limit_q05_m, uncertainty::empirical_quantile(limits, 0.05).value);
     EXPECT_EQ(out[i].depth_limit_q95_m, uncertainty::empirical_quantile(limits, 0.95).value);
     inside += out[i].depth_limit_q05_m <= out[i].depth_limit_m &&
@@ -281,6 +299,8 @@ TEST(PathDraws, DrawnFieldsArePackedAndUnpacked) {
   r.p_chatter_se = std::sqrt(0.3125 * 0.6875 / 16.0);
   r.depth_limit_q05_m = 1.1e-3;
   r.depth_limit_q95_m = 2.9e-3;
+  r.depth_limit_at_bound_m = 1.23e-3;
+  r.at_risk_drawn = true;
   r.q_rad = RobotSample::Joints::LinSpaced(6, -1.0, 1.0);
   std::vector<double> packed(packed_size(6));
   pack(r, 6, packed.data());
@@ -290,6 +310,8 @@ TEST(PathDraws, DrawnFieldsArePackedAndUnpacked) {
   EXPECT_EQ(back.p_chatter_se, r.p_chatter_se);
   EXPECT_EQ(back.depth_limit_q05_m, r.depth_limit_q05_m);
   EXPECT_EQ(back.depth_limit_q95_m, r.depth_limit_q95_m);
+  EXPECT_EQ(back.depth_limit_at_bound_m, r.depth_limit_at_bound_m);
+  EXPECT_TRUE(back.at_risk_drawn);
   EXPECT_EQ(back.q_rad, r.q_rad);
 }
 

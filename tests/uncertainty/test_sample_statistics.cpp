@@ -8,9 +8,11 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -131,6 +133,35 @@ TEST(SampleStatistics, FractionBelowWithBinomialError) {
   EXPECT_EQ(uq::fraction_below(ties, 1.5).value, 0.0);
   EXPECT_EQ(uq::fraction_below(ties, 1.5).standard_error, 0.0);
   EXPECT_EQ(uq::fraction_below(ties, 4.01).value, 1.0);
+}
+
+// The risk bound's order statistic on 37 values nobody chose (frac(k φ)
+// scaled), at fractions that are not round: v = the (⌊p n⌋ + 1)-th
+// smallest, so at most p n values lie at or below anything under v and more
+// than p n at or below v. p n = 3 exactly in floating point's eyes
+// (0.15 × 20 = 3.0000000000000004) counts as 3. ⌊p n⌋ ≥ n: none.
+TEST(SampleStatistics, ValueAtFractionBoundIsTheOrderStatistic) {
+  std::vector<double> values;
+  for (int k = 1; k <= 37; ++k)
+    values.push_back(3.7 * std::fmod(k * 0.6180339887498949, 1.0) + 0.21);
+  std::vector<double> sorted = values;
+  std::sort(sorted.begin(), sorted.end());
+  for (const double p : {0.0, 0.0137, 0.05, 0.19, 0.5, 0.8648, 0.973}) {
+    SCOPED_TRACE("p " + std::to_string(p));
+    const std::optional<double> v = uq::value_at_fraction_bound(values, p);
+    ASSERT_TRUE(v.has_value());
+    EXPECT_EQ(*v, sorted[static_cast<std::size_t>(std::floor(p * 37.0))]);
+    const auto at_or_below = [&](double t) {
+      return static_cast<double>(
+          std::count_if(values.begin(), values.end(), [t](double x) { return x <= t; }));
+    };
+    EXPECT_LE(at_or_below(std::nextafter(*v, -1.0)), p * 37.0);
+    EXPECT_GT(at_or_below(*v), p * 37.0);
+  }
+  std::vector<double> twenty(sorted.begin(), sorted.begin() + 20);
+  EXPECT_EQ(*uq::value_at_fraction_bound(twenty, 0.15), twenty[3]);
+  EXPECT_FALSE(uq::value_at_fraction_bound(values, 1.0).has_value());
+  EXPECT_TRUE(mentions(refusal([&] { (void)uq::value_at_fraction_bound(values, 1.5); }), "[0, 1]"));
 }
 
 // {2.5, 3.75, −1.125, 0.875}: mean 1.5, squared deviations 1 + 5.0625 +

@@ -32,10 +32,22 @@ std::vector<SpindleRegion> spindle_regions(const toolpath::Program& program);
 
 /// A sample of the first pass kept for the optimization: where it is, what
 /// it cuts, the posture and what the programmed speed gave there.
+///
+/// With draws of the uncertain inputs (issue 33) the margin is the risk-
+/// bounded one: the draws' limit at the bound (RobotSample::
+/// depth_limit_at_bound_m) over ap, so "at risk" reads P(chatter) over
+/// RobotPathSettings::max_chatter_probability. Every candidate's limit (a
+/// speed, a ψ) is the nominal limit there times `bound_ratio`, the ratio of
+/// the bounded to the nominal limit measured at the programmed point: one
+/// nominal solve per candidate, not one per draw. The ratio is exact for a
+/// common factor on the cutting coefficients and an approximation for drawn
+/// structure; the re-run of the written program measures P(chatter) with
+/// every draw (docs/uncertainty.md).
 struct RecordedSample {
   toolpath::PathSample sample;
   RobotSample::Joints q_rad;
   double margin = 0.0;
+  double bound_ratio = 1.0;  ///< bounded / nominal limit (1: no draws)
 };
 
 struct SpindleChoice {

@@ -202,6 +202,13 @@ struct RobotSample {
   /// The draws' 5 % and 95 % quantiles of the limit (depth_max where a draw
   /// is not limited, as depth_limit_m).
   double depth_limit_q05_m = 0.0, depth_limit_q95_m = 0.0;
+  /// The draws' limit at the bound (RobotPathSettings::max_chatter_probability
+  /// p over n draws): their (⌊p n⌋ + 1)-th smallest, so that P(chatter) ≤ p
+  /// exactly where ap < it. `--optimize` keeps ap below it (docs/uncertainty.md).
+  double depth_limit_at_bound_m = 0.0;
+  /// ap × risk_margin ≥ depth_limit_at_bound_m: with risk_margin 1, P(chatter)
+  /// over the bound.
+  bool at_risk_drawn = false;
 };
 
 /// A program line whose P(chatter) over the draws exceeds the bound, at its
@@ -325,6 +332,7 @@ class RobotAlongPath {
   /// in parallel, each through the same shortcut as the nominal limits.
   void set_draws(std::vector<PathDraw> draws);
   std::size_t draw_count() const noexcept { return draws_.size(); }
+  const std::vector<PathDraw>& draws() const noexcept { return draws_; }
 
   /// The robot at a sample with redundancy angle ψ = `redundancy_rad`, or,
   /// where the sample is oriented (PathSample::tool_x, a KRL frame), the

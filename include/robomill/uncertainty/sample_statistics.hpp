@@ -12,6 +12,7 @@
 // negative in practice). docs/uncertainty.md says how many draws give a
 // wanted precision.
 
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -70,5 +71,15 @@ std::vector<Estimate> empirical_quantiles(std::span<const double> values,
 /// std::invalid_argument when values is empty or holds a NaN, or the threshold
 /// is NaN.
 Estimate fraction_below(std::span<const double> values, double threshold);
+
+/// The (⌊p n⌋ + 1)-th smallest v of n values (p n within 1e-9 of an integer
+/// counts as that integer): a risk bound read from the draws' limits. At
+/// most a fraction p of the values lie at or below any threshold under v,
+/// more than p at or below v; so with the draws' stability limits, a depth
+/// under v has P(chatter) within p (and v is the deepest such depth when a
+/// limit equal to the depth is not chatter). None when ⌊p n⌋ ≥ n (every
+/// value may lie below). Throws std::invalid_argument when values is empty
+/// or holds a NaN, or p is outside [0, 1].
+std::optional<double> value_at_fraction_bound(std::span<const double> values, double p);
 
 }  // namespace robomill::uncertainty
