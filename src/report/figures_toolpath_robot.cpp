@@ -643,6 +643,19 @@ void optimization_table(const json& optimization, const json& summary, Content& 
       "");
   row("samples with chatter", number_of(along, "chatter_samples"),
       number_of(after, "chatter_samples"), "");
+  // With uncertainty: the draws on both programs (the written one re-run
+  // with every draw).
+  const json drawn_before = along.value("uncertainty", json::object());
+  const json drawn_after = after.value("uncertainty", json::object());
+  if (drawn_after.is_object() && !drawn_after.empty()) {
+    row("expected samples with chatter (draws)",
+        number_of(drawn_before, "expected_chatter_samples"),
+        number_of(drawn_after, "expected_chatter_samples"), "");
+    row("highest P(chatter)", 100.0 * number_of(drawn_before, "max_p_chatter"),
+        100.0 * number_of(drawn_after, "max_p_chatter"), " %");
+    row("lines over the bound", number_of(drawn_before, "lines_over_bound_count"),
+        number_of(drawn_after, "lines_over_bound_count"), "");
+  }
   row("largest form error", number_of(along, "max_form_error_um"),
       number_of(after, "max_form_error_um"), " µm");
   row("largest peak force", number_of(summary, "max_force_N"), number_of(after, "max_force_N"),
