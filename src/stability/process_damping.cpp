@@ -268,9 +268,8 @@ class DampedLimit {
     const double contact = std::min(depth, model_.max_depth_m());
     const dynamics::ModalModel modes = with_added_damping(
         modes_, process_damping_matrix(model_, *params_, speed_, contact, frequency_hz));
-    const ZeroOrderSolver solver(
-        a0_, model_.tool().teeth(), [modes](double w) { return modes.receptance(w); }, grid_,
-        depth_max_, options_.zero_order.refine_margin);
+    const ZeroOrderSolver solver(a0_, model_.tool().teeth(), modes, grid_, depth_max_,
+                                 options_.zero_order.refine_margin);
     return solver.limit(speed_);
   }
 
@@ -367,9 +366,7 @@ std::vector<ZeroOrderLimit> process_damped_limits(const RegenerativeModel& model
   std::vector<ZeroOrderSolver> structural;
   structural.reserve(sets.size());
   for (const dynamics::ModalModel& set : sets) {
-    structural.emplace_back(
-        a0, model.tool().teeth(), [set](double w) { return set.receptance(w); }, grid, depth_max,
-        zo.refine_margin);
+    structural.emplace_back(a0, model.tool().teeth(), set, grid, depth_max, zo.refine_margin);
   }
   std::vector<ZeroOrderLimit> out(spindle_rad_s.size());
   core::parallel_for(spindle_rad_s.size(), options.threads, [&](std::size_t i) {
@@ -402,9 +399,8 @@ std::vector<ZeroOrderLimit> envelope_limits(const Eigen::Matrix3d& mean_stiffnes
   std::vector<ZeroOrderLimit> out(spindle_rad_s.size());
   for (int q = 0; q < modes.size(); ++q) {
     const dynamics::ModalModel one = modes.subset({q});
-    const ZeroOrderSolver solver(
-        mean_stiffness_per_depth, teeth, [one](double w) { return one.receptance(w); }, grid,
-        depth_max, options.refine_margin);
+    const ZeroOrderSolver solver(mean_stiffness_per_depth, teeth, one, grid, depth_max,
+                                 options.refine_margin);
     for (std::size_t i = 0; i < spindle_rad_s.size(); ++i) {
       ZeroOrderLimit r = solver.limit(spindle_rad_s[i]);
       r.mode = q;

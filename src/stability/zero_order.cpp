@@ -3,6 +3,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 #include <stdexcept>
 
@@ -24,6 +25,24 @@ double resolve_depth_max(const RegenerativeModel& model, const ZeroOrderOptions&
 /// RegenerativeModel needs some modal model; W, and so A0, never reads it.
 dynamics::ModalModel placeholder_modes() {
   return dynamics::ModalModel({dynamics::directional_mode(0, 1.0, 0.5, 1.0)});
+}
+
+/// The principal square root (as std::sqrt's, branch cut on the negative
+/// real axis) without libm's csqrt and its overflow-safe hypot: the
+/// discriminants here are far inside double's range, and csqrt was a sixth
+/// of a program's uncertainty run. The larger part is formed from √((|z| ±
+/// x)/2) without cancellation, the other as y over twice it.
+std::complex<double> principal_sqrt(std::complex<double> z) noexcept {
+  const double x = z.real(), y = z.imag();
+  const double magnitude = std::sqrt(x * x + y * y);
+  if (magnitude == 0.0)
+    return {0.0, y};
+  if (x >= 0.0) {
+    const double t = std::sqrt(0.5 * (magnitude + x));
+    return {t, y / (2.0 * t)};
+  }
+  const double t = std::sqrt(0.5 * (magnitude - x));
+  return {std::abs(y) / (2.0 * t), std::copysign(t, y)};
 }
 
 /// Phase ε of (3): π + 2 arg λ, in (0, 2π) when Re λ > 0.
@@ -123,6 +142,7 @@ std::vector<double> chatter_frequency_grid_rad_s(const std::vector<FrfPeak>& pea
   // Around each peak: offsets ζ ωn sinh(s); uniform within a bandwidth, where
   // the phase of G turns fastest, and log-spaced in the flanks.
   const double s_max = std::asinh(options.peak_half_bandwidths);
+  std::size_t merged = grid.size();
   for (const FrfPeak& p : peaks) {
     const double wn = kTwoPi * p.frequency_hz;
     const double half_band = std::max(p.damping_ratio, 1e-5) * wn;
@@ -133,8 +153,12 @@ std::vector<double> chatter_frequency_grid_rad_s(const std::vector<FrfPeak>& pea
       if (w > 0.0)
         grid.push_back(w);
     }
+    // Each peak's points ascend: merge them in (the sorted union, as a sort
+    // would give, in linear time).
+    std::inplace_merge(grid.begin(), grid.begin() + static_cast<std::ptrdiff_t>(merged),
+                       grid.end());
+    merged = grid.size();
   }
-  std::sort(grid.begin(), grid.end());
   // Drop duplicates and points closer than round-off.
   std::vector<double> unique;
   unique.reserve(grid.size());
@@ -162,7 +186,7 @@ ZeroOrderSolver::ZeroOrderSolver(const RegenerativeModel& model, const ZeroOrder
                                            options.reference_depth_m),
           model.tool().teeth(), [modes = model.modes()](double w) { return modes.receptance(w); },
           chatter_frequency_grid_rad_s(modal_peaks(model.modes()), options),
-          resolve_depth_max(model, options), options.refine_margin) {}
+          resolve_depth_max(model, options), options.refine_margin, &model.modes()) {}
 
 ZeroOrderSolver::ZeroOrderSolver(const RegenerativeModel& model, Frf frf,
                                  const std::vector<FrfPeak>& peaks, const ZeroOrderOptions& options)
@@ -177,11 +201,18 @@ ZeroOrderSolver::ZeroOrderSolver(const Eigen::Matrix3d& a0, int teeth,
     : ZeroOrderSolver(
           a0, teeth, [modes](double w) { return modes.receptance(w); },
           chatter_frequency_grid_rad_s(modal_peaks(modes), options),
-          options.depth_max_m > 0.0 ? options.depth_max_m : 1.0, options.refine_margin) {}
+          options.depth_max_m > 0.0 ? options.depth_max_m : 1.0, options.refine_margin, &modes) {}
+
+ZeroOrderSolver::ZeroOrderSolver(const Eigen::Matrix3d& a0, int teeth,
+                                 const dynamics::ModalModel& modes, std::vector<double> grid_rad_s,
+                                 double depth_max_m, double refine_margin)
+    : ZeroOrderSolver(
+          a0, teeth, [modes](double w) { return modes.receptance(w); }, std::move(grid_rad_s),
+          depth_max_m, refine_margin, &modes) {}
 
 ZeroOrderSolver::ZeroOrderSolver(const Eigen::Matrix3d& a0, int teeth, Frf frf,
                                  std::vector<double> grid_rad_s, double depth_max_m,
-                                 double refine_margin)
+                                 double refine_margin, const dynamics::ModalModel* modes)
     : a0_(a0),
       teeth_(teeth),
       frf_(std::move(frf)),
@@ -202,30 +233,53 @@ ZeroOrderSolver::ZeroOrderSolver(const Eigen::Matrix3d& a0, int teeth, Frf frf,
   }
   planar_ = a0_.col(2).isZero(0.0);
   branches_ = planar_ ? 2 : 3;
+  if (planar_ && modes) {
+    planar_modes_.reserve(modes->modes().size());
+    for (const dynamics::Mode& m : modes->modes()) {
+      const double wn = kTwoPi * m.natural_frequency_hz;
+      const Eigen::RowVector2d loads = m.shape.transpose() * a0_.leftCols<2>();
+      planar_modes_.push_back({wn * wn, 2.0 * m.damping_ratio * wn, m.shape.head<2>() * loads});
+    }
+  }
   build();
 }
 
 Eigen::Vector3cd ZeroOrderSolver::eigenvalues(double omega) const {
   using C = std::complex<double>;
-  const Eigen::Matrix3cd g = frf_(omega);
   Eigen::Vector3cd out = Eigen::Vector3cd::Zero();
   if (planar_) {
     // Non-zero eigenvalues of A0 G = A0[:, 0:2] G[0:2, :] are those of
     // B = G[0:2, :] A0[:, 0:2] (2x2), from the quadratic in stable form.
-    const Eigen::Matrix2cd b = g.topRows<2>() * a0_.leftCols<2>().cast<C>();
+    Eigen::Matrix2cd b;
+    if (!planar_modes_.empty()) {
+      // B = Σ h_r P_r, h_r as conj/|·|² (ModalModel::receptance's form).
+      Eigen::Matrix2d real = Eigen::Matrix2d::Zero(), imag = Eigen::Matrix2d::Zero();
+      for (const PlanarMode& m : planar_modes_) {
+        const double re = m.natural_squared - omega * omega;
+        const double im = m.damping_term * omega;
+        const double scale = 1.0 / (re * re + im * im);
+        real += (re * scale) * m.product;
+        imag -= (im * scale) * m.product;
+      }
+      b.real() = real;
+      b.imag() = imag;
+    } else {
+      b = frf_(omega).topRows<2>() * a0_.leftCols<2>().cast<C>();
+    }
     const C half_trace = 0.5 * (b(0, 0) + b(1, 1));
     const C half_diff = 0.5 * (b(0, 0) - b(1, 1));
-    C root = std::sqrt(half_diff * half_diff + b(0, 1) * b(1, 0));
+    C root = principal_sqrt(half_diff * half_diff + b(0, 1) * b(1, 0));
     if (std::real(std::conj(half_trace) * root) < 0.0)
       root = -root;
     const C first = half_trace + root;
     const C det = b(0, 0) * b(1, 1) - b(0, 1) * b(1, 0);
     out[0] = first;
-    out[1] = first != C(0.0, 0.0) ? det / first : half_trace - root;
+    // det/first as det·conj(first)/|first|²: no libgcc __divdc3.
+    out[1] = first != C(0.0, 0.0) ? det * std::conj(first) / std::norm(first) : half_trace - root;
     return out;
   }
   Eigen::ComplexEigenSolver<Eigen::Matrix3cd> solver;
-  solver.compute(a0_.cast<C>() * g, false);
+  solver.compute(a0_.cast<C>() * frf_(omega), false);
   return solver.eigenvalues();
 }
 
@@ -238,21 +292,26 @@ void ZeroOrderSolver::build() {
   constexpr int max_octaves = 6;
   int top_octaves = 0, bottom_octaves = 0;
   const double re_floor = 0.5 / depth_max_;
+  // Whether some branch at grid point i lies below depth_max: a question of
+  // the point's eigenvalues, not of their branch labels, so the extensions
+  // are decided on the ends' eigenvalues alone and the branches tracked once
+  // over the final grid (as tracking after every extension would label them).
+  std::vector<Eigen::Vector3cd> raw(grid_.size());
+  std::vector<char> known(grid_.size(), 0);
   auto below_depth_max = [&](std::size_t i) {
+    if (!known[i]) {
+      raw[i] = eigenvalues(grid_[i]);
+      known[i] = 1;
+    }
     for (int b = 0; b < branches_; ++b) {
-      const std::size_t at = static_cast<std::size_t>(b) * grid_.size() + i;
-      if (valid_[at] && lambda_[at].real() > re_floor)
+      const std::complex<double> l = raw[i][b];
+      if (std::isfinite(l.real()) && std::isfinite(l.imag()) && l.real() > 0.0 &&
+          l.real() > re_floor)
         return true;
     }
     return false;
   };
-  // Each point's eigenvalues are computed once: an extension re-tracks the
-  // branches over the whole grid (a point added below changes the labels),
-  // but the eigenvalues of the points already there stay as they are.
-  std::vector<Eigen::Vector3cd> raw(grid_.size());
-  std::vector<char> known(grid_.size(), 0);
   for (;;) {
-    track(raw, known);
     const bool top = top_octaves < max_octaves && below_depth_max(grid_.size() - 1);
     const bool bottom = bottom_octaves < max_octaves && below_depth_max(0);
     if (!top && !bottom)
@@ -280,6 +339,7 @@ void ZeroOrderSolver::build() {
       ++bottom_octaves;
     }
   }
+  track(raw, known);
 }
 
 void ZeroOrderSolver::track(std::vector<Eigen::Vector3cd>& raw_at, std::vector<char>& known) {

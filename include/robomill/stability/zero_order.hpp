@@ -39,13 +39,19 @@
 // When A0 has a zero third column (every flat end mill: the chip normal has
 // no z component), the non-zero eigenvalues of A0 G are those of the 2x2
 // G[0:2, :] A0[:, 0:2] and are found in closed form; otherwise a 3x3 complex
-// eigensolver is used. Neither allocates per frequency.
+// eigensolver is used. Neither allocates per frequency. With a modal model
+// (G = Σ_r φ_r φ_rᵀ h_r(ω), h_r = 1/(ω_r² − ω² + 2iζ_r ω_r ω), real shapes)
+// that 2x2 is Σ_r h_r(ω) P_r with P_r = φ_r[0:2] (A0[:, 0:2]ᵀ φ_r)ᵀ real and
+// fixed: per frequency one scalar h_r and two 2x2 real sums per mode, not
+// the 3x3 receptance and its product with A0 (the draws of a program's
+// uncertain robot solve this a few hundred thousand times).
 
 #include <Eigen/Core>
 #include <array>
 #include <complex>
 #include <cstddef>
 #include <functional>
+#include <utility>
 #include <vector>
 
 #include "robomill/dynamics/modal_model.hpp"
@@ -175,9 +181,16 @@ class ZeroOrderSolver {
   /// A given A0 (N/m per m of depth) and modal model; `teeth` sets τ = 2π/(NΩ).
   ZeroOrderSolver(const Eigen::Matrix3d& mean_stiffness_per_depth, int teeth,
                   const dynamics::ModalModel& modes, const ZeroOrderOptions& options = {});
+  /// A0 and a modal model on an explicit grid (rad/s, sorted): the diagrams
+  /// that share one grid over several mode sets (process_damping.hpp).
+  ZeroOrderSolver(const Eigen::Matrix3d& mean_stiffness_per_depth, int teeth,
+                  const dynamics::ModalModel& modes, std::vector<double> grid_rad_s,
+                  double depth_max_m, double refine_margin = 0.05);
   /// The most general form: A0, FRF and an explicit grid (rad/s, sorted).
   ZeroOrderSolver(const Eigen::Matrix3d& mean_stiffness_per_depth, int teeth, Frf frf,
-                  std::vector<double> grid_rad_s, double depth_max_m, double refine_margin = 0.05);
+                  std::vector<double> grid_rad_s, double depth_max_m, double refine_margin = 0.05)
+      : ZeroOrderSolver(mean_stiffness_per_depth, teeth, std::move(frf), std::move(grid_rad_s),
+                        depth_max_m, refine_margin, nullptr) {}
 
   /// The limit at one spindle speed (rad/s > 0). Safe to call from several
   /// threads when the FRF callable is (a ModalModel's is).
@@ -199,6 +212,11 @@ class ZeroOrderSolver {
   Eigen::Matrix3cd receptance(double omega_rad_s) const { return frf_(omega_rad_s); }
 
  private:
+  /// The general form; `modes` (may be null) is the FRF's modal model, for
+  /// the planar closed form's fixed per-mode matrices.
+  ZeroOrderSolver(const Eigen::Matrix3d& mean_stiffness_per_depth, int teeth, Frf frf,
+                  std::vector<double> grid_rad_s, double depth_max_m, double refine_margin,
+                  const dynamics::ModalModel* modes);
   void build();  // track() and extend the grid while curves stay below depth_max
   /// Eigenvalues (where not `known` yet) and branch tracking on grid_.
   void track(std::vector<Eigen::Vector3cd>& raw, std::vector<char>& known);
@@ -216,6 +234,12 @@ class ZeroOrderSolver {
   double refine_margin_ = 0.05;
   bool planar_ = false;  // A0 has a zero third column: 2x2 eigenproblem
   int branches_ = 3;
+  /// Planar with a modal model: per mode ω_r², 2ζ_r ω_r and P_r (see above).
+  struct PlanarMode {
+    double natural_squared = 0.0, damping_term = 0.0;
+    Eigen::Matrix2d product = Eigen::Matrix2d::Zero();
+  };
+  std::vector<PlanarMode> planar_modes_;
   // Per branch b, per grid point i (index b * n + i): eigenvalue, phase ε, validity.
   std::vector<std::complex<double>> lambda_;
   std::vector<double> epsilon_;
