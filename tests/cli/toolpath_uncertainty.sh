@@ -66,6 +66,29 @@ for r in rows:
 assert along["uncertainty"]["expected_chatter_samples"] == along["chatter_samples"], along
 EOF
 
+# Zero spread under --optimize: the bounded limit is the nominal one, so the
+# choices and their margins are those of the same job without uncertainty:.
+sed '/^uncertainty:/,$d' "$JOB" > "$WORK/nominal.yaml"
+"$ROBOMILL" toolpath "$WORK/nominal.yaml" --set "toolpath.file=$SOURCE/examples/programs/pocket.nc" \
+  --optimize --out "$WORK/nominal_opt" --quiet || fail "nominal --optimize exit code"
+"$ROBOMILL" toolpath "$JOB" --set uncertainty.samples=4 --set "$TINY" --optimize \
+  --out "$WORK/tiny_opt" --quiet || fail "tiny spread --optimize exit code"
+"$PY" - "$WORK/nominal_opt/summary.json" "$WORK/tiny_opt/summary.json" <<'EOF' \
+  || fail "tiny spread --optimize is not the nominal one"
+import json, sys
+a, b = (json.load(open(f))["optimization"] for f in sys.argv[1:3])
+assert "risk_note" not in a and "risk_note" in b
+ca, cb = a["spindle_choices"], b["spindle_choices"]
+assert len(ca) == len(cb) > 0, (ca, cb)
+for x, y in zip(ca, cb):
+    assert x["chosen_rpm"] == y["chosen_rpm"] and x["at_risk_after"] == y["at_risk_after"], (x, y)
+    for k in ("min_margin_before", "min_margin_after"):
+        assert abs(x[k] - y[k]) <= 1e-6 * abs(x[k]), (k, x[k], y[k])
+for k in ("samples_newly_at_risk", "samples_relieved", "samples_compared"):
+    assert a[k] == b[k], (k, a[k], b[k])
+assert abs(a["after"]["min_margin"] - b["after"]["min_margin"]) <= 1e-9 * a["after"]["min_margin"]
+EOF
+
 # --optimize under the bound: the choices read the draws' limit at the bound,
 # and the written program's P(chatter) is measured with every draw: the
 # same numbers as `toolpath` on the written program with the same job.
