@@ -286,7 +286,10 @@ def test_toolpath_with_a_robot_gives_margins_and_postures(source):
 def test_toolpath_optimize_caps_the_feeds_and_returns_the_program(source):
     # --optimize from Python: the program written back comes as a text, and
     # the re-run of it keeps every load under robot_path.feed_limits.
-    result = robomill.toolpath(source / "examples" / "toolpath_robot_pocket.yaml", optimize=True)
+    # Sampled every 0.5 mm over 41 speeds, as tests/cli/toolpath.sh does.
+    job = robomill.Job(source / "examples" / "toolpath_robot_pocket.yaml",
+                       {"toolpath.spacing": "0.5 mm", "stability.speeds.count": 41})
+    result = robomill.toolpath(job, optimize=True)
     optimization = result["summary"]["optimization"]
     limits = optimization["feeds"]["limits"]
     assert optimization["feeds"]["lines_changed"] > 0

@@ -138,6 +138,7 @@ toolpath::ProgramAnalysisSettings program_analysis_settings(const job::ToolpathS
   analysis.rapid_speed_m_s = settings.rapid_speed_m_s;
   analysis.default_spindle_rad_s = settings.spindle_rad_s;
   analysis.force_steps_per_tooth = settings.force_steps_per_tooth;
+  analysis.block_samples = settings.block_samples;
   analysis.threads = threads;
   analysis.source_name = std::move(source_name);
   return analysis;

@@ -303,6 +303,7 @@ void read_toolpath(SectionReader& root, Job& job) {
     else if (job.process)
       s.spindle_rad_s = job.process->spindle_rad_s;
     s.force_steps_per_tooth = r.integer_or("steps_per_tooth", 4, 10000, 32);
+    s.block_samples = static_cast<std::size_t>(r.integer_or("block_samples", 16, 1 << 20, 4096));
     const double max_mb =
         r.quantity_or("max_size", dimensionless(kPositive, Bound{4096.0, true}), 64.0);
     s.max_bytes = static_cast<std::size_t>(max_mb * 1024.0 * 1024.0);

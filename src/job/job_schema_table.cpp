@@ -340,6 +340,7 @@ constexpr Field kFields[] = {
   {"toolpath", "rapid_speed", K::quantity, "mm/min", "> 0", "30 000 mm/min", "", "Traverse speed of rapid moves (air time)."},
   {"toolpath", "spindle", K::quantity, "rpm", "> 0", "process.spindle", "", "Spindle speed where the program gives none (KRL programs rarely do)."},
   {"toolpath", "steps_per_tooth", K::integer, "", "4 … 10 000", "32", "", "Force samples per tooth period at each sample (peak force and torque)."},
+  {"toolpath", "block_samples", K::integer, "", "16 … 1 048 576", "4096", "", "Samples computed per block: the unit in which the robot along the program is shared over MPI ranks (`mpirun robomill toolpath`) and the next block's engagement overlaps this block's forces. Smaller blocks spread a short program over more ranks. The robot's shortcut (`robot_path.tolerance`) starts again at each block, so interpolated stable depths may move within that tolerance; every other number is the same for any block size."},
   {"toolpath", "max_size", K::quantity, "", "> 0, ≤ 4096", "64", "", "Programs larger than this many MiB are refused before they are read."},
   {"toolpath", "work_offsets", K::map, "", "", "all zero (noted)", "gcode only", "G-code work offsets by name (`G54: [x, y, z]`, mm), added to the coordinates written after G54 … G59 selects them."},
   {"toolpath", "dat", K::text, "", "", "the .src's .dat", "krl only", "The KRL program's data file."},

@@ -289,6 +289,7 @@ struct ToolpathSettings {
   double rapid_speed_m_s = 0.5;                   ///< `rapid_speed` (30 m/min)
   double spindle_rad_s = 0.0;                     ///< `spindle`: when the program gives none
   int force_steps_per_tooth = 32;                 ///< `steps_per_tooth`
+  std::size_t block_samples = 4096;               ///< `block_samples`
   std::size_t max_bytes = 64u << 20;              ///< `max_size`
   std::map<int, Eigen::Vector3d> work_offsets_m;  ///< G-code `work_offsets: {G54: [x, y, z]}`
   std::filesystem::path dat_file;                 ///< KRL `dat` (default: the .src's .dat)
