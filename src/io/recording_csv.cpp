@@ -66,13 +66,23 @@ std::string shown_cell(std::string_view cell) {
 }
 
 /// The data rows of a CSV file (lines that are neither empty nor '#'
-/// comments, less the header), counted in one pass over 1 MiB chunks: the
-/// detector sizes its spectra by the recording's length, which a streamed
-/// file otherwise tells only at its end. Memory does not grow with the file.
-std::int64_t count_data_rows(const std::filesystem::path& file) {
+/// comments, less the header) and where the last one starts.
+struct CsvRows {
+  std::int64_t data_rows = 0;
+  std::streamoff last_row_offset = -1;  ///< -1: no data row
+  int last_row_line = 0;                ///< 1-based line number
+};
+
+/// Counted in one pass over 1 MiB chunks: the detector sizes its spectra by
+/// the recording's length, and the time base is the whole column's mean
+/// interval (its first and last rows), both of which a streamed file
+/// otherwise tells only at its end. Memory does not grow with the file.
+CsvRows scan_data_rows(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
   std::vector<char> chunk(std::size_t{1} << 20);
   std::int64_t rows = 0;
+  std::streamoff chunk_start = 0, last_start = -1;
+  int line = 1, last_line = 0;
   bool line_start = true;  // no character but blanks seen on this line yet
   while (in) {
     in.read(chunk.data(), static_cast<std::streamsize>(chunk.size()));
@@ -81,13 +91,25 @@ std::int64_t count_data_rows(const std::filesystem::path& file) {
       const char c = chunk[static_cast<std::size_t>(i)];
       if (c == '\n') {
         line_start = true;
+        ++line;
       } else if (line_start && c != ' ' && c != '\t' && c != '\r') {
-        rows += c != '#';
+        if (c != '#') {
+          ++rows;
+          last_start = chunk_start + i;
+          last_line = line;
+        }
         line_start = false;
       }
     }
+    chunk_start += got;
   }
-  return std::max<std::int64_t>(0, rows - 1);
+  CsvRows result;
+  result.data_rows = std::max<std::int64_t>(0, rows - 1);
+  if (result.data_rows > 0) {
+    result.last_row_offset = last_start;
+    result.last_row_line = last_line;
+  }
+  return result;
 }
 
 class CsvSource final : public monitoring::SignalSource {
@@ -97,22 +119,28 @@ class CsvSource final : public monitoring::SignalSource {
     if (!stream_)
       fail(spec_, "file", "cannot open " + file_name(spec_));
     read_header();
+    const CsvRows rows = scan_data_rows(spec_.file);
     double rate = 0.0;
     if (time_column_) {
-      // The time base: the first two rows.
+      // The time base: the whole column's mean interval, from its first and
+      // last rows (a time rounded to a few decimals moves single steps, not
+      // this); every step is checked against it as it streams past.
       if (!next_row())
         fail(spec_, "file", file_name(spec_) + " has a header but no data rows");
       first_time_ = row_time_;
-      pending_.push_back(row_value_);
-      if (!next_row())
-        fail(spec_, "file", file_name(spec_) + ": the time column needs at least 2 rows, got 1");
-      interval_ = row_time_ - first_time_;
-      if (!(interval_ > 0.0))
-        fail(spec_, "file",
-             file_name(spec_) + " line " + std::to_string(line_) + ": time " + number(row_time_) +
-                 " s does not increase (previous " + number(first_time_) + " s)");
       previous_time_ = row_time_;
       pending_.push_back(row_value_);
+      if (rows.data_rows < 2)
+        fail(spec_, "file", file_name(spec_) + ": the time column needs at least 2 rows, got 1");
+      const double last_time = last_row_time(rows);
+      span_ = last_time - first_time_;
+      steps_ = rows.data_rows - 1;
+      interval_ = span_ / static_cast<double>(steps_);
+      if (!(interval_ > 0.0) || !std::isfinite(interval_))
+        fail(spec_, "file",
+             file_name(spec_) + ": the time column must increase (from " + number(first_time_) +
+                 " s on its first row to " + number(last_time) + " s on line " +
+                 std::to_string(rows.last_row_line) + ")");
       rate = 1.0 / interval_;
       check_rate_agrees(spec_, rate);
     } else {
@@ -141,8 +169,8 @@ class CsvSource final : public monitoring::SignalSource {
     remaining_ = duration_samples(spec_, rate);
     info_.sample_rate_hz = rate;
     // The samples to come: the rows after the start, at most the duration's.
-    const std::int64_t rows = std::max<std::int64_t>(0, count_data_rows(spec_.file) - skip);
-    info_.samples = remaining_ >= 0 ? std::min(rows, remaining_) : rows;
+    const std::int64_t left = std::max<std::int64_t>(0, rows.data_rows - skip);
+    info_.samples = remaining_ >= 0 ? std::min(left, remaining_) : left;
     info_.start_s = (time_column_ ? first_time_ : 0.0) + static_cast<double>(skip) / rate;
     info_.kind = spec_.signal;
     info_.full_scale = 0.0;
@@ -213,6 +241,33 @@ class CsvSource final : public monitoring::SignalSource {
              file_name(spec_) + ": column '" + spec_.column + "' is the time; name a value column");
     }
     value_column_ = *value;
+  }
+
+  // The time on the file's last data row (scan_data_rows found where it starts).
+  double last_row_time(const CsvRows& rows) {
+    std::ifstream in(spec_.file, std::ios::binary);
+    in.seekg(rows.last_row_offset);
+    std::string text;
+    if (!std::getline(in, text))
+      fail(spec_, "file", "cannot read " + file_name(spec_) + " (I/O error)");
+    std::vector<std::string_view> cells;
+    split_cells(text::trim(text), cells);
+    const std::string where = file_name(spec_) + " line " + std::to_string(rows.last_row_line);
+    if (cells.size() != columns_.size())
+      fail(spec_, "file",
+           where + ": " + std::to_string(cells.size()) + " cells, the header has " +
+               std::to_string(columns_.size()));
+    std::string_view cell = cells[*time_column_];
+    if (!cell.empty() && cell.front() == '+')
+      cell.remove_prefix(1);
+    double time = 0.0;
+    const auto result = std::from_chars(cell.data(), cell.data() + cell.size(), time);
+    if (cell.empty() || result.ec != std::errc() || result.ptr != cell.data() + cell.size() ||
+        !std::isfinite(time))
+      fail(spec_, "file",
+           where + ", column '" + columns_[*time_column_] + "': expected a finite time, got " +
+               shown_cell(cells[*time_column_]));
+    return time;
   }
 
   // The next line that is neither blank nor a '#' comment.
@@ -294,12 +349,10 @@ class CsvSource final : public monitoring::SignalSource {
   void check_interval() {
     if (!time_column_)
       return;
-    const double step = row_time_ - previous_time_;
-    if (!(std::abs(step - interval_) <= 1e-3 * interval_))
-      fail(spec_, "file",
-           file_name(spec_) + " line " + std::to_string(line_) + ": time " + number(row_time_) +
-               " s breaks the uniform sampling (interval " + number(step) + " s, expected " +
-               number(interval_) + " s from the first two rows, within 0.1 %)");
+    if (const std::string problem =
+            irregular_time_step(row_time_, row_time_ - previous_time_, span_, steps_);
+        !problem.empty())
+      fail(spec_, "file", file_name(spec_) + " line " + std::to_string(line_) + ": " + problem);
     previous_time_ = row_time_;
   }
 
@@ -316,6 +369,8 @@ class CsvSource final : public monitoring::SignalSource {
   double first_time_ = 0.0;
   double previous_time_ = 0.0;
   double interval_ = 0.0;
+  double span_ = 0.0;            // last time less the first
+  std::int64_t steps_ = 1;       // data rows less one
   std::vector<double> pending_;  // at most 2 values read ahead (the time base)
   bool finished_ = false;
   std::int64_t remaining_ = -1;  // -1: to the end

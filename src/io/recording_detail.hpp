@@ -45,9 +45,18 @@ std::int64_t duration_samples(const RecordingSpec& spec, double rate_hz);
 /// must agree (relative 1e-3); else InputError (key "sample_rate").
 void check_rate_agrees(const RecordingSpec& spec, double file_rate_hz);
 
-/// The time base of `time` (seconds, one per sample): increasing, uniform
-/// within 1e-3 of the mean interval. Returns the sample rate, or throws
-/// (key `key`) naming the first bad entry as "`what` N" (1-based, offset by
+/// What is wrong with one step of a time column spanning `span_s` in `steps`
+/// steps (its mean interval: span_s / steps), or "" when the step keeps the
+/// sampling uniform. Rounding of the time (a DAQ export writing 7 decimals) and clock
+/// jitter move a step by well under half an interval, and are accepted; a
+/// dropped sample or block lengthens it by at least a whole interval, a
+/// repeated or reversed time shortens it by at least half: those are refused.
+std::string irregular_time_step(double time_s, double step_s, double span_s, std::int64_t steps);
+
+/// The time base of `time` (seconds, one per sample): increasing, its rate
+/// the whole column's mean interval, every step within half an interval of it
+/// (irregular_time_step). Returns the sample rate, or throws (key `key`)
+/// naming the first bad entry as "`what` N" (1-based, offset by
 /// `first_number`).
 double uniform_rate(const RecordingSpec& spec, std::span<const double> time, const char* key,
                     const std::string& what, std::int64_t first_number = 1);

@@ -100,16 +100,37 @@ double uniform_rate(const RecordingSpec& spec, std::span<const double> time, con
          file_name(spec) + ": the time column must increase (from " + number(time.front()) +
              " s to " + number(time.back()) + " s)");
   for (std::size_t i = 1; i < time.size(); ++i) {
-    const double step = time[i] - time[i - 1];
-    if (!(std::abs(step - interval) <= 1e-3 * interval))
+    if (const std::string problem =
+            irregular_time_step(time[i], time[i] - time[i - 1], time.back() - time.front(),
+                                static_cast<std::int64_t>(time.size() - 1));
+        !problem.empty())
       fail(spec, key,
            file_name(spec) + ": " + what + " " +
-               std::to_string(static_cast<std::int64_t>(i) + first_number) + ": time " +
-               number(time[i]) + " s breaks the uniform sampling (interval " + number(step) +
-               " s, expected " + number(interval) +
-               " s within 0.1 %); resample the recording or give a uniform time column");
+               std::to_string(static_cast<std::int64_t>(i) + first_number) + ": " + problem);
   }
   return 1.0 / interval;
+}
+
+std::string irregular_time_step(double time_s, double step_s, double span_s, std::int64_t steps) {
+  const double interval_s = span_s / static_cast<double>(steps);
+  if (std::abs(step_s - interval_s) < 0.5 * interval_s)
+    return {};
+  const std::string what = "time " + number(time_s) + " s comes " + number(step_s) +
+                           " s after the row before, where the whole column's mean interval is " +
+                           number(interval_s) + " s";
+  if (step_s > interval_s) {
+    // The interval of the other steps: the gap's own length lengthens the
+    // whole column's mean (a 100-sample gap in 3000 rows by 3 %).
+    const double others_s =
+        steps > 1 ? (span_s - step_s) / static_cast<double>(steps - 1) : interval_s;
+    const double missing = std::round(step_s / (others_s > 0.0 ? others_s : interval_s)) - 1.0;
+    return what + ": a gap in the uniform sampling (about " + number(std::max(1.0, missing)) +
+           " sample(s) missing); cut the recording before or after it with start and duration, "
+           "or resample it";
+  }
+  return what +
+         ": the time repeats or goes back, which breaks the uniform sampling; give a "
+         "uniform time column or resample the recording";
 }
 
 std::size_t MemorySource::read(std::span<double> out) {

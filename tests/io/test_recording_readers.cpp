@@ -346,10 +346,20 @@ TEST_F(RecordingReaders, MatV5AndV73MatricesAndVectors) {
 
 TEST_F(RecordingReaders, MatTimeColumnMustBeUniform) {
   MatVariable v = time_matrix("tsDS", tone(100, 1000.0, 50.0, 1.0), 1000.0);
-  v.data[40] += 0.5e-3;  // row 41 half a step late
+  v.data[40] += 0.7e-3;  // row 41 0.7 of a step late: more than rounding or jitter
   write_mat(path("jitter.mat"), {v}, MAT_FT_MAT5);
   expect_error(spec_for(path("jitter.mat"), RecordingFormat::mat), "recording.variable",
                {"jitter.mat", "row 41", "uniform"});
+  // Rounded to 4 decimals at 3 kHz (steps of 0.3 or 0.4 ms): uniform.
+  MatVariable rounded = time_matrix("tsDS", tone(100, 3000.0, 50.0, 1.0), 3000.0);
+  for (int r = 0; r < 100; ++r)
+    rounded.data[static_cast<std::size_t>(r)] =
+        std::round(rounded.data[static_cast<std::size_t>(r)] * 1e4) / 1e4;
+  write_mat(path("rounded.mat"), {rounded}, MAT_FT_MAT5);
+  EXPECT_NEAR(io::open_recording(spec_for(path("rounded.mat"), RecordingFormat::mat))
+                  ->info()
+                  .sample_rate_hz,
+              3000.0, 3000.0 * 2.0 * 0.5e-4 / 0.033);  // two roundings over 33 ms
   MatVariable nan = time_matrix("tsDS", tone(100, 1000.0, 50.0, 1.0), 1000.0);
   nan.data[100 + 7] = std::nan("");
   write_mat(path("nan.mat"), {nan}, MAT_FT_MAT5);
@@ -458,6 +468,66 @@ TEST_F(RecordingReaders, CsvStreamsWithTimeColumnOrSampleRate) {
   EXPECT_EQ(read_spec(rate, 2), (std::vector<double>{0.5, -0.25, 1e-3}));
   rate.column = "p";
   expect_error(rate, "recording.column", {"no column 'p' in rate.csv (it has: mic_Pa)"});
+}
+
+// Issue 34: a DAQ export writes the time to 7 decimals (0.1 us), so at
+// 44.1 kHz (22.6757... us) single steps are 22.6 or 22.7 us, 0.3 % off; clock
+// jitter moves them further. Neither is a gap: the rate is the whole column's
+// mean interval. A dropped block, or a repeated row, is refused by its line.
+TEST_F(RecordingReaders, CsvTimeRoundedOrJitteredIsUniformAndAGapIsNot) {
+  const double rate = 44100.0, t0 = 0.0123457;
+  const int n = 3000;
+  std::vector<double> values;
+  const auto write = [&](const std::string& name, const std::function<bool(int)>& keep,
+                         double jitter_fraction) {
+    std::string text = "time,accel_ms2\n";
+    values.clear();
+    for (int i = 0; i < n; ++i) {
+      if (!keep(i))
+        continue;
+      // A jitter of +-jitter_fraction of a step that nobody chose (a fixed LCG).
+      const double u = std::fmod(0.6180339887 * (i + 1) * (i + 7), 1.0) * 2.0 - 1.0;
+      const double t = t0 + (i + jitter_fraction * u) / rate;
+      values.push_back(std::sin(0.37 * i) + 0.01 * i);
+      char row[80];
+      std::snprintf(row, sizeof row, "%.7f,%.17g\n", t, values.back());
+      text += row;
+    }
+    write_text(path(name), text);
+  };
+  write(
+      "rounded.csv", [](int) { return true; }, 0.0);
+  auto source = io::open_recording(spec_for(path("rounded.csv"), RecordingFormat::csv));
+  // (last - first) / (n - 1): two roundings of at most 0.05 us over 68 ms.
+  EXPECT_NEAR(source->info().sample_rate_hz, rate, rate * 2.0 * 0.05e-6 / 0.068);
+  EXPECT_NEAR(source->info().start_s, t0, 0.05e-6);
+  EXPECT_EQ(read_all(*source, 257), values);
+  write(
+      "jitter.csv", [](int) { return true; }, 0.2);
+  EXPECT_EQ(read_spec(spec_for(path("jitter.csv"), RecordingFormat::csv), 64), values);
+  // Rows 1200 … 1299 dropped: line 1202 (header on line 1) follows row 1199.
+  write(
+      "dropped.csv", [](int i) { return i < 1200 || i >= 1300; }, 0.0);
+  expect_error(spec_for(path("dropped.csv"), RecordingFormat::csv), "recording.file",
+               {"dropped.csv line 1202", "gap", "about 100 sample(s) missing"});
+  write(
+      "repeat.csv", [](int) { return true; }, 0.0);
+  std::string text;
+  {
+    std::ifstream in(path("repeat.csv"));
+    text.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  const std::size_t line_700 = [&] {  // the start of data row 699 (line 701)
+    std::size_t at = 0;
+    for (int l = 0; l < 700; ++l)
+      at = text.find('\n', at) + 1;
+    return at;
+  }();
+  const std::size_t line_end = text.find('\n', line_700) + 1;
+  text.insert(line_end, text.substr(line_700, line_end - line_700));  // line 701 twice
+  write_text(path("repeat.csv"), text);
+  expect_error(spec_for(path("repeat.csv"), RecordingFormat::csv), "recording.file",
+               {"repeat.csv line 702", "repeats or goes back"});
 }
 
 TEST_F(RecordingReaders, BadCsvNamesTheLineAndColumn) {
