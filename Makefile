@@ -9,8 +9,7 @@ FUZZ_FRF_SECONDS ?= 15
 FUZZ_PROGRAM_SECONDS ?= 10
 FUZZ_RECORDING_SECONDS ?= 10
 
-.PHONY: all setup build demo docs test test-release sanitize-build sanitize-compile test-sanitize fuzz \
-        bench format clean
+.PHONY: all setup build demo docs test test-release sanitize-build test-sanitize fuzz bench format clean
 
 all: build
 
@@ -72,27 +71,8 @@ docs: build
 # release pass as before. `make test-release` alone still builds and runs
 # every program.
 RELEASE_TEST_PROGRAMS ?= stability;simulation;surface;toolpath;validation;analysis;dynamics;deflection
-#
-# The two builds overlap: once `setup` has run, the sanitizer build starts in
-# the background at the lowest CPU priority (nice 19) while the release build
-# and its tests run in front. It takes only the cycles they leave idle (links,
-# a build's last batch compiling alone, tests waiting for each other: about a
-# fifth of the release tests' two cores), so the release pass is not slowed
-# and the sanitizer build is further on when it ends. Its output goes to
-# $(ASAN_BUILD)/background.log, shown after the release pass; a failed release pass
-# stops it.
-test: setup
-	@mkdir -p $(ASAN_BUILD)
-	@echo "test: the sanitizer build runs in the background at nice 19 (log: $(ASAN_BUILD)/background.log)"
-	@setsid sh -c 'nice -n 19 $(MAKE) --no-print-directory sanitize-compile > $(ASAN_BUILD)/background.log 2>&1; \
-	   echo $$? > $(ASAN_BUILD)/background.rc' & background=$$!; \
-	 if $(MAKE) --no-print-directory test-release TEST_PROGRAMS="$(RELEASE_TEST_PROGRAMS)"; then \
-	   echo "test: the release pass passed; waiting for the sanitizer build"; wait $$background; \
-	   cat $(ASAN_BUILD)/background.log; exit $$(cat $(ASAN_BUILD)/background.rc); \
-	 else \
-	   kill -- -$$background 2> /dev/null; wait $$background; exit 1; \
-	 fi
-	$(MAKE) --no-print-directory fuzz test-sanitize
+test: TEST_PROGRAMS = $(RELEASE_TEST_PROGRAMS)
+test: test-release fuzz test-sanitize
 
 test-release: build
 	cd $(BUILD) && ctest --output-on-failure -j$(JOBS)
@@ -103,10 +83,7 @@ test-release: build
 # Line tables only (-gline-tables-only, not full -g): the sanitizers' reports
 # still name file and line, and each object compiles 10-25 % faster and is a
 # fraction of the size, so the tests and fuzzers link faster too.
-sanitize-build: setup sanitize-compile
-
-# The sanitizer build without `setup` (what `make test` runs in the background).
-sanitize-compile:
+sanitize-build: setup
 	cmake -S . -B $(ASAN_BUILD) -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
 	  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -gline-tables-only -DNDEBUG" \
 	  -DROBOMILL_SANITIZE=ON -DROBOMILL_BUILD_FUZZ=ON -DROBOMILL_BUILD_BENCH=OFF -DROBOMILL_UNITY=$(UNITY)
