@@ -193,6 +193,9 @@ std::string listen_message(const std::vector<analysis::RecordingVerdict>& judged
     } else {
       verdict = "unknown: " + a.reason;
     }
+    if (a.engaged_start_s && a.engaged_end_s && a.verdict != monitoring::Verdict::unknown)
+      verdict += fmt::format(" [judged {:.2f}-{:.2f} s, where the cut's comb stands]",
+                             *a.engaged_start_s, *a.engaged_end_s);
     message += fmt::format("listen: {} ({:.2f} s, spindle {:.0f} rpm measured): {}\n",
                            j.recording.file.filename().string(), a.duration_s,
                            a.spindle_hz_measured * 60.0, verdict);
@@ -235,6 +238,10 @@ nlohmann::json listen_recording_json(const analysis::RecordingVerdict& j) {
       {"ignored_energy_fraction", a.ignored_energy_fraction},
       {"floor_energy_fraction", a.floor_energy_fraction},
       {"onset_s", a.onset_s ? nlohmann::json(*a.onset_s) : nlohmann::json(nullptr)},
+      {"engaged_start_s",
+       a.engaged_start_s ? nlohmann::json(*a.engaged_start_s) : nlohmann::json(nullptr)},
+      {"engaged_end_s",
+       a.engaged_end_s ? nlohmann::json(*a.engaged_end_s) : nlohmann::json(nullptr)},
       {"clipped_fraction", a.clipped_fraction},
       {"duration_s", a.duration_s},
       {"sample_rate_hz", a.sample_rate_hz},

@@ -143,6 +143,12 @@ class CsvSource final : public monitoring::SignalSource {
                  std::to_string(rows.last_row_line) + ")");
       rate = 1.0 / interval_;
       check_rate_agrees(spec_, rate);
+      // The second row too, read and checked now: a file too short for the
+      // detector to stream still has its first rows' errors named.
+      if (next_row()) {
+        check_interval();
+        pending_.push_back(row_value_);
+      }
     } else {
       if (!spec_.sample_rate_hz)
         fail(spec_, "sample_rate",

@@ -115,6 +115,7 @@ ListenSettings read_listen(SectionReader& r) {
       r.quantity_or("threshold", dimensionless(kPositive, Bound{1.0, false}), 0.5);
   d.detect_mains = r.choice("mains", {"auto", "off"}, "auto") == "auto";
   d.detect_steady_lines = r.boolean_or("steady_lines", true);
+  d.judge_engaged_stretch = r.boolean_or("engaged_only", true);
   if (const auto band = r.quantities("band", hertz(kNonNegative), 2)) {
     d.band_low_hz = (*band)[0];
     d.band_high_hz = (*band)[1];

@@ -417,6 +417,7 @@ constexpr Field kFields[] = {
   {"listen", "threshold", K::quantity, "", "0 … 1", "0.5", "", "The share of the cut's vibration (the band's power less the lines set aside) held by chatter evidence above which a cut chatters; 0.5: the self-excited vibration outweighs everything else the cut makes (003 §4)."},
   {"listen", "mains", K::choice, "", "auto, off", "auto", "", "auto: set aside narrow lines at 50 or 60 Hz and their harmonics that are not spindle harmonics."},
   {"listen", "steady_lines", K::boolean, "", "", "true", "", "Set aside narrow lines that are not spindle harmonics and stay put at a constant level over the recording (pumps, fans)."},
+  {"listen", "engaged_only", K::boolean, "", "", "true", "", "With a measured spindle comb, judge only the stretch where it stands within 10 dB of its level in the cut (air before or after the cut set aside; summary.json engaged_start_s, engaged_end_s); false: the whole recording (cut it with recording.start and duration)."},
   {"listen", "band", K::quantities, "Hz", "two frequencies, increasing", "3 bins to 0.45 × the sample rate", "", "The band searched for chatter."},
   {"listen", "segment", K::quantity, "s", "> 0", "from the spindle frequency", "", "Welch segment length: the spectrum's resolution is 1 / segment, and the short-time spectra (spectrogram, onset) are these segments."},
   {"listen", "spindle_range", K::quantities, "rpm", "two speeds, increasing", "advise.speeds, stability.speeds, else 0.5-1.5 × the spindle", "", "The spindle speeds the advice may recommend."},

@@ -32,6 +32,11 @@ double normal_quantile(double p) {
 /// A spindle comb's score (the harmonics' height above the line level) must
 /// be this many times the median of the scores over the search range.
 constexpr double kCombProminence = 3.0;
+/// Without a measured comb the commanded speed places only its first 20
+/// harmonics: a few % of speed error moves the k-th by k times as much. The
+/// comb search scores 20 tooth harmonics (k to 20 N), at most this many.
+constexpr int kUnrefinedHarmonics = 20;
+constexpr int kMaxCoarseHarmonics = 160;
 /// Mains: 50 and 60 Hz harmonics to the 10th (rectifiers and transformers
 /// put their power in the low ones: 120 Hz dominates the Khasawneh
 /// recordings), within ±0.2 % (the grid's frequency tolerance). Higher orders
@@ -460,15 +465,22 @@ SpindleComb measure_spindle(const ListenOptions& options, const Spectrum& s, con
   const double f0 = options.commanded_spindle_hz;
   SpindleComb comb;
   const double search = std::max(0.0, options.spindle_search_fraction) * f0;
-  comb.coarse_harmonics = std::max(1, std::min(20, static_cast<int>(s.band_high / f0)));
-  comb.fine_harmonics = std::max(1, std::min(200, static_cast<int>(s.band_high / f0)));
+  // The search scores the harmonics up to the 20th tooth harmonic: a
+  // many-toothed cutter's comb is mostly its tooth harmonics (every N-th),
+  // and a speed error shows k times larger at the k-th (issue 34: a 6-tooth
+  // cut 2 % below its command, found only from its high tooth harmonics).
+  const int teeth = std::max(1, options.teeth);
+  const int in_band = static_cast<int>(s.band_high / f0);
+  comb.coarse_harmonics =
+      std::max(1, std::min({kUnrefinedHarmonics * teeth, kMaxCoarseHarmonics, in_band}));
+  comb.fine_harmonics = std::max(1, std::min(200, in_band));
   const int coarse_harmonics = comb.coarse_harmonics, fine_harmonics = comb.fine_harmonics;
   const CoarseComb coarse =
       coarse_comb_search(options, s, lines, r.psd, f0, search, coarse_harmonics);
   const double coarse_step = coarse_comb_step(df, coarse_harmonics, search);
-  // A comb: at least a quarter of the low harmonics (and 3) above the line
+  // A comb: at least a quarter of its tooth harmonics (and 3) above the line
   // level; a few lines that a wrong fundamental happens to hit are not one.
-  const int comb_needed = std::min(coarse_harmonics, std::max(3, coarse_harmonics / 4));
+  const int comb_needed = std::min(coarse_harmonics, std::max(3, coarse_harmonics / teeth / 4));
   if (coarse.count >= comb_needed && coarse.best_score > 0.0) {
     const double estimate = refine_spindle(options, s, lines, r.psd, coarse.best_f, fine_harmonics);
     // The refined speed must stay inside the search range (away from its
@@ -485,7 +497,7 @@ SpindleComb measure_spindle(const ListenOptions& options, const Spectrum& s, con
   // Unrefined, the commanded speed is taken as exact to the coarse grid's
   // step (a tolerance of k × the search range would swallow the spectrum).
   comb.uncertainty_hz =
-      r.spindle_refined ? df / (2.0 * fine_harmonics) : df / (2.0 * coarse_harmonics);
+      r.spindle_refined ? df / (2.0 * fine_harmonics) : df / (2.0 * kUnrefinedHarmonics);
   return comb;
 }
 
@@ -503,7 +515,7 @@ void attribute_bins(const ListenOptions& options, const Spectrum& s, const LineB
     // Without a measured comb the commanded speed places only the low
     // harmonics: its error (an override, a slipping belt: a few %) moves the
     // k-th by k times as much, beyond a bin above the first tens.
-    if (!r.spindle_refined && h > comb.coarse_harmonics)
+    if (!r.spindle_refined && h > kUnrefinedHarmonics)
       h = 0;
     harmonic_of[k] = h;
     if (!lines.in_line[k]) {
@@ -627,6 +639,15 @@ void set_aside_steady_lines(const ListenOptions& options, const Spectrum& s, con
           r.cause[j] = LineCause::steady_line;
     }
   }
+}
+
+std::vector<char> narrow_comb_bins(const Spectrum& s, const LineBins& lines,
+                                   const RecordingAnalysis& r) {
+  std::vector<char> comb(s.bins, 0);
+  for (std::size_t k = s.first_bin; k <= s.last_bin; ++k)
+    comb[k] = (r.cause[k] == LineCause::spindle || r.cause[k] == LineCause::tooth) &&
+              lines.in_line[k] && line_run_bins(s, lines, k) <= kNarrowLineBins;
+  return comb;
 }
 
 }  // namespace robomill::monitoring::detail

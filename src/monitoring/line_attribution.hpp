@@ -102,4 +102,11 @@ void set_aside_steady_lines(const ListenOptions& options, const Spectrum& s, con
                             const std::vector<Peak>& peaks, const WelchStream& welch,
                             RecordingAnalysis& r);
 
+/// The bins of the measured comb's narrow lines: forced (spindle or tooth)
+/// line bins whose run of line bins is no wider than a steady line's. What
+/// the engaged stretch follows frame by frame: a broad hump that a harmonic
+/// happens to fall in (air noise exciting a mode) is not the cut's comb.
+std::vector<char> narrow_comb_bins(const Spectrum& s, const LineBins& lines,
+                                   const RecordingAnalysis& r);
+
 }  // namespace robomill::monitoring::detail

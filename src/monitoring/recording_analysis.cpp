@@ -40,8 +40,22 @@ constexpr double kBinsPerSpindleHarmonic = 32.0;
 /// grid blurs (a fast spindle's 32 bins per harmonic can be 6 Hz wide) ...
 constexpr double kCoarsestResolutionHz = 1.0;
 /// ... but at least this many segments over the recording (ν ≥ 2·3·0.95
-/// degrees of freedom for the floor's statistics).
+/// degrees of freedom for the floor's statistics) ...
 constexpr double kMinSegments = 3.0;
+/// ... unless 3 segments would leave fewer than this many bins between
+/// spindle harmonics: a Hann line's main lobe spans ±2 bins, so at 4 bins
+/// apart a line midway between two harmonics stands clear of both. A short
+/// recording then gets 2 segments (issue 34: 0.75-1 s of turning at 570 rpm
+/// holds 7-9 revolutions but hundreds of cycles of chatter near 1 kHz).
+/// Shorter still, the comb cannot be told from other lines: "unknown".
+constexpr double kMinBinsPerSpindleHarmonic = 4.0;
+constexpr double kFewestSegments = 2.0;
+
+/// The longest Welch segment (samples) that gives `segments` 50 %-overlapped
+/// segments in `samples`: (n − L) / (L / 2) + 1 ≥ K ⇔ L ≤ 2 n / (K + 1).
+double longest_segment(double samples, double segments) {
+  return samples / (0.5 * (segments + 1.0));
+}
 /// Clipping: samples within 0.1 % of full scale; more than 0.1 % of them and
 /// the spectrum holds the clipping's harmonics, not the cut's.
 constexpr double kClipLevel = 0.999;
@@ -54,6 +68,10 @@ constexpr double kOnsetPersistence = 0.8;
 constexpr std::size_t kSpectrogramBudget = std::size_t{1} << 22;
 /// The public spectrogram: at most this many frequency columns (bins averaged).
 constexpr std::size_t kDisplayBins = 1024;
+/// The engaged stretch: frames whose forced-comb power lies within this
+/// factor (10 dB) of the cut's level, the 90th percentile over the frames.
+constexpr double kEngagedFactor = 0.1;
+constexpr double kEngagedReferenceQuantile = 0.9;
 
 bool is_smooth(std::size_t n) {
   for (std::size_t p : {2u, 3u, 5u})
@@ -162,18 +180,26 @@ std::string hz_text(double hz) {
   return fmt::format("{:.4g} Hz", hz);
 }
 
-/// The shortest recording judged: options.min_revolutions of the commanded
-/// spindle (s).
+/// The shortest recording judged (s): the frequency resolution the verdict
+/// needs, kMinBinsPerSpindleHarmonic bins between the commanded spindle's
+/// harmonics, in kFewestSegments segments (6 revolutions).
 double shortest_recording_s(const ListenOptions& options) {
-  const double revolution_s = 1.0 / options.commanded_spindle_hz;
-  return options.min_revolutions * revolution_s;
+  const double segment_s = kMinBinsPerSpindleHarmonic / options.commanded_spindle_hz;
+  return 0.5 * (kFewestSegments + 1.0) * segment_s;
+}
+
+/// "unknown" for a recording shorter than shortest_recording_s, in words.
+std::string too_short_reason(double duration_s, double min_duration_s) {
+  return fmt::format(
+      "the recording ({:.3g} s) is too short to resolve the spindle's harmonics: that takes {} "
+      "spectral segments of {:g} bins per harmonic ({:.3g} s)",
+      duration_s, kFewestSegments, kMinBinsPerSpindleHarmonic, min_duration_s);
 }
 
 /// Before stage 1: whether the signal can be judged at all, from its
 /// description (a sample rate, one fast enough for the tooth comb, a length
 /// not known to be too short). False with r.reason set when it cannot.
-bool can_judge_signal(const SignalInfo& info, const ListenOptions& options, double min_duration_s,
-                      RecordingAnalysis& r) {
+bool can_judge_signal(const SignalInfo& info, double min_duration_s, RecordingAnalysis& r) {
   const double fs = info.sample_rate_hz;
   if (!(fs > 0.0)) {
     r.reason = "the signal has no sample rate";
@@ -190,16 +216,15 @@ bool can_judge_signal(const SignalInfo& info, const ListenOptions& options, doub
   }
   if (info.samples >= 0 && static_cast<double>(info.samples) / fs < min_duration_s) {
     r.duration_s = static_cast<double>(info.samples) / fs;
-    r.reason =
-        fmt::format("the recording ({:.3g} s) is shorter than {} spindle revolutions ({:.3g} s)",
-                    r.duration_s, options.min_revolutions, min_duration_s);
+    r.reason = too_short_reason(r.duration_s, min_duration_s);
     return false;
   }
   return true;
 }
 
 /// Stage 1, the Welch segment (samples): ≥ 32 bins per spindle harmonic and
-/// ≥ 1 Hz resolution, but ≥ 3 segments; an FFT-friendly length.
+/// ≥ 1 Hz resolution, but ≥ 3 segments (2 when 3 would resolve the comb
+/// with fewer than 4 bins a harmonic); an FFT-friendly length.
 std::size_t welch_segment_length(const SignalInfo& info, const ListenOptions& options) {
   const double fs = info.sample_rate_hz;
   const double wanted = std::max(kBinsPerSpindleHarmonic * fs / options.commanded_spindle_hz,
@@ -209,10 +234,13 @@ std::size_t welch_segment_length(const SignalInfo& info, const ListenOptions& op
                            : static_cast<std::size_t>(std::ceil(wanted));
   length = smooth_length(length, true);
   if (info.samples > 0) {
-    const auto cap =
-        static_cast<std::size_t>(static_cast<double>(info.samples) / (0.5 * (kMinSegments + 1.0)));
-    if (length > cap)
-      length = smooth_length(cap, false);
+    const auto samples = static_cast<double>(info.samples);
+    const double resolving = kMinBinsPerSpindleHarmonic * fs / options.commanded_spindle_hz;
+    double cap = longest_segment(samples, kMinSegments);
+    if (cap < resolving)
+      cap = longest_segment(samples, kFewestSegments);
+    if (static_cast<double>(length) > cap)
+      length = smooth_length(static_cast<std::size_t>(cap), false);
   }
   return length;
 }
@@ -274,8 +302,7 @@ StreamCounts stream_into_welch(SignalSource& source, const SignalInfo& info,
 /// r.reason set when what was read cannot be judged (samples not finite,
 /// too short a recording, not one whole segment).
 bool can_judge_stream(const StreamCounts& counts, const detail::WelchStream& welch, double fs,
-                      std::size_t length, double min_duration_s, const ListenOptions& options,
-                      RecordingAnalysis& r) {
+                      std::size_t length, double min_duration_s, RecordingAnalysis& r) {
   const std::size_t delivered = counts.delivered;
   r.duration_s = static_cast<double>(delivered) / fs;
   r.clipped_fraction = delivered > 0 ? static_cast<double>(counts.clipped) / delivered : 0.0;
@@ -284,9 +311,7 @@ bool can_judge_stream(const StreamCounts& counts, const detail::WelchStream& wel
     return false;
   }
   if (r.duration_s < min_duration_s) {
-    r.reason =
-        fmt::format("the recording ({:.3g} s) is shorter than {} spindle revolutions ({:.3g} s)",
-                    r.duration_s, options.min_revolutions, min_duration_s);
+    r.reason = too_short_reason(r.duration_s, min_duration_s);
     return false;
   }
   if (welch.segments() == 0) {
@@ -600,32 +625,14 @@ std::vector<SpindleSuggestion> suggest_spindle_speeds(double chatter_hz, int tee
   return out;
 }
 
-RecordingAnalysis analyze_recording(SignalSource& source, const ListenOptions& options) {
-  if (!(options.commanded_spindle_hz > 0.0))
-    throw std::invalid_argument("analyze_recording: the commanded spindle speed must be > 0");
-  if (options.teeth < 1)
-    throw std::invalid_argument("analyze_recording: the tooth count must be ≥ 1");
-  const SignalInfo& info = source.info();
-  RecordingAnalysis r;
-  r.sample_rate_hz = info.sample_rate_hz;
-  r.spindle_hz_commanded = options.commanded_spindle_hz;
-  r.spindle_hz_measured = options.commanded_spindle_hz;
-  r.tooth_hz = options.commanded_spindle_hz * options.teeth;
-  const double fs = info.sample_rate_hz;
-  const double min_duration_s = shortest_recording_s(options);
-  if (!can_judge_signal(info, options, min_duration_s, r))
-    return r;
+namespace {
 
-  // Stage 1: the one streaming pass, then the Welch PSD over the band.
-  const std::size_t length = welch_segment_length(info, options);
-  detail::WelchStream welch(length, spectrogram_column_cap(options, length / 2 + 1), kBlock);
-  const StreamCounts counts = stream_into_welch(source, info, options, welch);
-  if (!can_judge_stream(counts, welch, fs, length, min_duration_s, options, r))
-    return r;
-  Spectrum s = welch_psd(welch, fs, length, r);
-  if (!choose_band(options, s, r))
-    return r;
-
+/// Stages 2-5 on the spectrum in r.psd (s its grid, s.segments its Welch
+/// count): the line bins, the spindle's comb, every bin's cause, the
+/// energies, the lines, the spectrogram, the verdict and the onset. Returns
+/// the bins of the comb's narrow lines (detail::narrow_comb_bins).
+std::vector<char> judge_spectrum(const SignalInfo& info, const ListenOptions& options, Spectrum& s,
+                                 const detail::WelchStream& welch, RecordingAnalysis& r) {
   // Stages 2 and 3 (line_attribution.cpp): the line bins, the mains lines,
   // the spindle's comb, then every bin's cause, refined rule by rule.
   LineBins lines = detail::find_line_bins(s, r.psd);
@@ -644,7 +651,124 @@ RecordingAnalysis analyze_recording(SignalSource& source, const ListenOptions& o
   chatter_frequency(s, peaks, r);
   fill_spectrogram(info, s, lines, welch, r);
   judge(info, options, energies, welch.columns(), r);
-  return r;
+  return detail::narrow_comb_bins(s, lines, r);
+}
+
+/// The engaged stretch (first and last short-time column): where the power
+/// in the measured comb's narrow lines (`comb`: its spindle and tooth
+/// harmonics) stands within kEngagedFactor of its level in the cut. Issue 34: a recording that
+/// starts before the tool engages holds air, whose broadband noise reads as chatter evidence over
+/// the whole spectrum. None when no comb was measured (a turning cut has none to rise) or the comb
+/// spans the whole recording.
+std::optional<std::pair<std::size_t, std::size_t>> engaged_stretch(const Spectrum& s,
+                                                                   const detail::WelchStream& welch,
+                                                                   const std::vector<char>& comb,
+                                                                   const RecordingAnalysis& r) {
+  const std::size_t columns = welch.columns();
+  if (!r.spindle_refined || columns < 4)
+    return std::nullopt;
+  std::vector<double> comb_power(columns, 0.0);
+  for (std::size_t c = 0; c < columns; ++c) {
+    const double* col = welch.column(c);
+    double sum = 0.0;
+    for (std::size_t k = s.first_bin; k <= s.last_bin; ++k)
+      if (comb[k])
+        sum += col[k];
+    comb_power[c] = sum / static_cast<double>(welch.column_segments(c));
+  }
+  std::vector<double> sorted = comb_power;
+  const auto at = sorted.begin() +
+                  static_cast<std::ptrdiff_t>(
+                      std::llround(kEngagedReferenceQuantile * static_cast<double>(columns - 1)));
+  std::nth_element(sorted.begin(), at, sorted.end());
+  const double level = kEngagedFactor * *at;
+  if (!(level > 0.0))
+    return std::nullopt;
+  std::size_t first = 0, last = columns - 1;
+  while (first < last && comb_power[first] < level)
+    ++first;
+  while (last > first && comb_power[last] < level)
+    --last;
+  if (first == 0 && last == columns - 1)
+    return std::nullopt;
+  return std::pair{first, last};
+}
+
+/// The Welch PSD of the columns [first, last] alone (r.psd, s.segments).
+void stretch_psd(const detail::WelchStream& welch, std::size_t first, std::size_t last, Spectrum& s,
+                 RecordingAnalysis& r) {
+  std::size_t segments = 0;
+  std::fill(r.psd.begin(), r.psd.end(), 0.0);
+  for (std::size_t c = first; c <= last; ++c) {
+    const double* col = welch.column(c);
+    for (std::size_t k = 0; k < s.bins; ++k)
+      r.psd[k] += col[k];
+    segments += welch.column_segments(c);
+  }
+  s.segments = static_cast<double>(segments);
+  for (std::size_t k = 0; k < s.bins; ++k) {
+    const double one_sided = (k == 0 || 2 * k == s.length) ? 1.0 : 2.0;
+    r.psd[k] *= one_sided * s.scale / s.segments;
+  }
+}
+
+}  // namespace
+
+RecordingAnalysis analyze_recording(SignalSource& source, const ListenOptions& options) {
+  if (!(options.commanded_spindle_hz > 0.0))
+    throw std::invalid_argument("analyze_recording: the commanded spindle speed must be > 0");
+  if (options.teeth < 1)
+    throw std::invalid_argument("analyze_recording: the tooth count must be ≥ 1");
+  const SignalInfo& info = source.info();
+  RecordingAnalysis r;
+  r.sample_rate_hz = info.sample_rate_hz;
+  r.spindle_hz_commanded = options.commanded_spindle_hz;
+  r.spindle_hz_measured = options.commanded_spindle_hz;
+  r.tooth_hz = options.commanded_spindle_hz * options.teeth;
+  const double fs = info.sample_rate_hz;
+  const double min_duration_s = shortest_recording_s(options);
+  if (!can_judge_signal(info, min_duration_s, r))
+    return r;
+
+  // Stage 1: the one streaming pass, then the Welch PSD over the band.
+  const std::size_t length = welch_segment_length(info, options);
+  detail::WelchStream welch(length, spectrogram_column_cap(options, length / 2 + 1), kBlock);
+  const StreamCounts counts = stream_into_welch(source, info, options, welch);
+  if (!can_judge_stream(counts, welch, fs, length, min_duration_s, r))
+    return r;
+  Spectrum s = welch_psd(welch, fs, length, r);
+  if (!choose_band(options, s, r))
+    return r;
+  const RecordingAnalysis read = r;  // stage 1's outcome, before any verdict
+  const std::vector<char> comb = judge_spectrum(info, options, s, welch, r);
+
+  // Air before or after the cut: judge the engaged stretch alone, when it
+  // holds the Welch segments the floor's statistics need.
+  const auto stretch =
+      options.judge_engaged_stretch ? engaged_stretch(s, welch, comb, r) : std::nullopt;
+  if (!stretch)
+    return r;
+  std::size_t segments = 0;
+  for (std::size_t c = stretch->first; c <= stretch->second; ++c)
+    segments += welch.column_segments(c);
+  if (static_cast<double>(segments) < kMinSegments)
+    return r;
+  RecordingAnalysis engaged = read;
+  engaged.engaged_start_s =
+      info.start_s + static_cast<double>(welch.column_first_sample(stretch->first)) / fs;
+  engaged.engaged_end_s =
+      info.start_s +
+      static_cast<double>(welch.column_first_sample(stretch->second) +
+                          welch.column_segments(stretch->second) * length / 2 + length / 2) /
+          fs;
+  stretch_psd(welch, stretch->first, stretch->second, s, engaged);
+  judge_spectrum(info, options, s, welch, engaged);
+  engaged.reason += fmt::format(
+      "; judged from {:.2f} s to {:.2f} s, where the spindle's comb stands within 10 dB of its "
+      "level in the cut (the rest is air)",
+      *engaged.engaged_start_s, std::min(*engaged.engaged_end_s, info.start_s + r.duration_s));
+  engaged.engaged_end_s = std::min(*engaged.engaged_end_s, info.start_s + r.duration_s);
+  return engaged;
 }
 
 }  // namespace robomill::monitoring

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <random>
 #include <span>
@@ -124,6 +125,107 @@ TEST(RecordingAnalysis, TheSpindleIsRefinedUnderAFivePercentOverride) {
   EXPECT_EQ(r.verdict, Verdict::stable) << r.reason;
 }
 
+// Issue 34: a 5100 rpm cut (85 Hz) of a 6-tooth cutter whose spindle runs
+// 1.9 % slow (83.4 Hz): its comb is the tooth harmonics (every 6th) with a
+// little runout. Kept at the commanded speed, the 20th harmonic (1668 Hz)
+// lies 32 Hz off and the stable cut read as chatter; the search over 20
+// tooth harmonics finds the comb and measures it.
+TEST(RecordingAnalysis, ASixToothCombTwoPercentSlowIsMeasured) {
+  const double actual = 83.4, tooth = 6 * actual;
+  std::vector<Tone> tones;
+  for (int k = 1; k * tooth < 4400.0; ++k)
+    tones.push_back({k * tooth, 1.0 / k});
+  for (int k : {1, 2, 3, 5, 20, 23})
+    tones.push_back({k * actual, 0.03});
+  ListenOptions options;
+  options.commanded_spindle_hz = 85.0;
+  options.teeth = 6;
+  const auto r = analyze(signal(tones, 6.0, 0.01), options);
+  EXPECT_TRUE(r.spindle_refined) << r.reason;
+  EXPECT_NEAR(r.spindle_hz_measured, actual, 2e-4 * actual);
+  EXPECT_EQ(r.verdict, Verdict::stable) << r.reason;
+  EXPECT_LT(r.chatter_energy_fraction, 0.05);
+}
+
+// Issue 34: segments of 0.75-1 s of turning at 570 rpm (9.5 Hz, one insert)
+// hold 7-9 revolutions, too few for 3 spectral segments of 4 bins per
+// harmonic but enough for 2; chatter near 1 kHz (with its sidebands at the
+// spindle frequency) is then hundreds of cycles. Judged, not "unknown".
+TEST(RecordingAnalysis, ShortSegmentsOfSlowTurningAreJudged) {
+  const double spindle = 9.5, fc = 1013.7;
+  ListenOptions options;
+  options.commanded_spindle_hz = spindle;
+  options.teeth = 1;
+  const std::vector<Tone> stable = {{spindle, 0.2}, {2 * spindle, 0.1}, {120.0, 0.5}};
+  std::vector<Tone> chatter = stable;
+  chatter.push_back({fc, 1.5});
+  chatter.push_back({fc - spindle, 0.5});
+  chatter.push_back({fc + spindle, 0.4});
+  for (double duration : {0.75, 0.93}) {
+    SCOPED_TRACE(duration);
+    const auto c = analyze(signal(chatter, duration, 0.02), options);
+    EXPECT_EQ(c.verdict, Verdict::chatter) << c.reason;
+    EXPECT_NEAR(c.chatter_hz, fc, c.resolution_hz);
+    EXPECT_LE(c.resolution_hz, spindle / 4.0);
+    const auto s = analyze(signal(stable, duration, 0.02), options);
+    EXPECT_EQ(s.verdict, Verdict::stable) << s.reason;
+  }
+  // 0.55 s (5.2 revolutions): 2 segments would give 3.5 bins per harmonic.
+  const auto r = analyze(signal(chatter, 0.55, 0.02), options);
+  EXPECT_EQ(r.verdict, Verdict::unknown);
+  EXPECT_NE(r.reason.find("too short to resolve the spindle's harmonics"), std::string::npos)
+      << r.reason;
+}
+
+// Issue 34: a recording that starts before the tool engages. For its first
+// 2.3 s the sensor hears air: loud broadband noise shaped by a resonance
+// near 700 Hz (a hump above the running-median floor, so "chatter
+// evidence": judged whole, the cut reads as chatter); then a stable cut's
+// tooth comb. The
+// comb's rise marks the engaged stretch, which alone is judged: stable.
+TEST(RecordingAnalysis, TheAirBeforeTheCutIsNotJudgedWithIt) {
+  const double air_s = 2.3, cut_s = 5.7;
+  auto x = signal(forced(kSpindle), air_s + cut_s, 0.01, 7);
+  std::mt19937 rng(11);
+  std::normal_distribution<double> white(0.0, 1.0);
+  // A resonator (700 Hz, 3 % damping) driven by white noise, in the air only.
+  const double wn = kTwoPi * 700.0, zeta = 0.03, dt = 1.0 / kRate;
+  double q = 0.0, v = 0.0;
+  const auto air_samples = static_cast<std::size_t>(air_s * kRate);
+  std::vector<double> hump(air_samples);
+  double rms = 0.0;
+  for (std::size_t i = 0; i < air_samples; ++i) {
+    v += dt * (white(rng) * wn * wn * 0.05 - 2.0 * zeta * wn * v - wn * wn * q);
+    q += dt * v;
+    hump[i] = q;
+    rms += q * q;
+  }
+  rms = std::sqrt(rms / static_cast<double>(air_samples));
+  for (std::size_t i = 0; i < air_samples; ++i)  // no cut yet: no forced lines
+    x[i] = 0.01 * white(rng) + 2.5 * hump[i] / rms;
+  // The whole recording, air and all, as it was judged before: chatter.
+  ListenOptions whole;
+  whole.commanded_spindle_hz = kSpindle;
+  whole.teeth = 2;
+  whole.judge_engaged_stretch = false;
+  const auto before = analyze(x, whole);
+  EXPECT_EQ(before.verdict, Verdict::chatter) << before.reason;
+  EXPECT_FALSE(before.engaged_start_s.has_value());
+  const auto r = analyze(x);
+  ASSERT_TRUE(r.engaged_start_s.has_value()) << r.reason;
+  // Where the comb rises, to one Welch segment (a segment straddling the
+  // start holds part of the comb), and to the end.
+  const double segment_s = 2.0 * static_cast<double>(r.psd.size() - 1) / kRate;
+  EXPECT_NEAR(*r.engaged_start_s, air_s, segment_s);
+  EXPECT_NEAR(*r.engaged_end_s, air_s + cut_s, 1e-9);
+  EXPECT_EQ(r.verdict, Verdict::stable) << r.reason;
+  EXPECT_NE(r.reason.find("judged from"), std::string::npos) << r.reason;
+  // A cut from the first sample to the last: no stretch, the whole judged.
+  const auto full = analyze(signal(forced(kSpindle), air_s + cut_s, 0.01, 7));
+  EXPECT_FALSE(full.engaged_start_s.has_value());
+  EXPECT_EQ(full.verdict, Verdict::stable) << full.reason;
+}
+
 TEST(RecordingAnalysis, SidebandsBelongToTheirChatterLine) {
   auto tones = forced(kSpindle);
   const double fc = 913.7, tooth = 2 * kSpindle;
@@ -139,10 +241,10 @@ TEST(RecordingAnalysis, SidebandsBelongToTheirChatterLine) {
 }
 
 TEST(RecordingAnalysis, SignalsThatCannotDecideAreUnknownWithAReason) {
-  // Shorter than ten revolutions.
-  auto r = analyze(signal(forced(kSpindle), 0.15, 0.01));
+  // Too short to resolve the spindle's harmonics (4.7 revolutions).
+  auto r = analyze(signal(forced(kSpindle), 0.1, 0.01));
   EXPECT_EQ(r.verdict, Verdict::unknown);
-  EXPECT_NE(r.reason.find("revolutions"), std::string::npos) << r.reason;
+  EXPECT_NE(r.reason.find("too short to resolve"), std::string::npos) << r.reason;
   // A sample rate below twice the tooth frequency.
   ListenOptions fast;
   fast.commanded_spindle_hz = 3000.0;  // 2 teeth: 6 kHz > kRate / 2

@@ -9,9 +9,9 @@
 //     overlap) and short-time spectra (the spectrogram, at most
 //     `max_spectrogram_frames` columns: consecutive frames are averaged, so
 //     memory stays flat in the recording's length);
-//  2. the spindle frequency refined from the spectrum near the commanded one
-//     (the comb of its harmonics that holds the most power within
-//     ±spindle_search_fraction);
+//  2. the spindle frequency measured from the spectrum near the commanded
+//     one (the comb whose harmonics, to 20 tooth harmonics, stand highest
+//     within ±spindle_search_fraction), refined on its high harmonics;
 //  3. every PSD bin attributed (LineCause): the spindle's and the tooth's
 //     harmonics (forced), lines set aside (the job's `ignore`, mains 50/60 Hz
 //     and harmonics, lines that stay put), the broadband floor, and what
@@ -22,6 +22,10 @@
 //     "unknown" with a reason when the signal cannot decide;
 //  5. the onset: the first short-time frame from which the chatter share
 //     stays above the threshold.
+//  With a measured comb, the short-time spectra also give the engaged
+//  stretch (the tooth comb's power within 10 dB of its level in the cut):
+//  when the recording holds air before or after it, stages 2-5 run again on
+//  the PSD of that stretch alone.
 
 #include <functional>
 #include <optional>
@@ -41,7 +45,7 @@ struct IgnoredLine {
 struct ListenOptions {
   double commanded_spindle_hz = 0.0;     ///< process.spindle / 60 (required > 0)
   int teeth = 1;                         ///< tool.teeth (1 for a single insert)
-  double spindle_search_fraction = 0.1;  ///< refine within ±10 % of the commanded speed
+  double spindle_search_fraction = 0.1;  ///< search the comb within ±10 % of the command
   std::vector<IgnoredLine> ignore;
   bool detect_mains = true;         ///< set aside 50/60 Hz lines and their harmonics
   bool detect_steady_lines = true;  ///< set aside lines that stay put over the recording
@@ -57,7 +61,9 @@ struct ListenOptions {
   /// segment.
   double segment_s = 0.0;
   int max_spectrogram_frames = 400;
-  int min_revolutions = 10;  ///< shorter recordings give "unknown"
+  /// With a measured comb, judge only the stretch where it stands (air
+  /// before or after the cut set aside); false: the whole recording.
+  bool judge_engaged_stretch = true;
   /// Called with the fraction of the signal read (0..1) when the length is known.
   std::function<void(double)> progress;
 };
@@ -92,6 +98,11 @@ struct RecordingAnalysis {
   double floor_energy_fraction = 0.0;    ///< broadband floor, of the total
   std::optional<double> onset_s;         ///< from the recording's start
   double clipped_fraction = 0.0;         ///< of the samples at full scale
+  /// The engaged stretch judged, on the recording's time axis: where the
+  /// tooth comb's power stands within 10 dB of its level in the cut. Unset
+  /// when the whole recording was judged (no measured comb, or a comb from
+  /// start to end).
+  std::optional<double> engaged_start_s, engaged_end_s;
 
   /// Welch PSD (signal unit²/Hz), one-sided, and each bin's cause.
   std::vector<double> frequency_hz, psd;
