@@ -494,7 +494,7 @@ CompensationOutcome compensate_program(const job::Job& job, const analysis::Robo
 void FirstRunRecord::add(const toolpath::PathSample& sample, const robot_path::RobotSample& robot) {
   // With draws the choices keep P(chatter) within the bound: the margin and
   // the risk are the draws' limit at the bound's (program_optimization.hpp).
-  const bool risk = robot.drawn ? robot.at_risk_drawn : robot.at_risk;
+  const bool risk = robot.at_risk_to_optimize();
   at_risk.push_back(robot.stability ? (risk ? 1 : 0) : 2);
   if (!robot.stability || !(robot.exact || risk) || recorded.size() >= kMaxRecorded)
     return;
@@ -793,7 +793,7 @@ void run_after(const job::Job& job, const analysis::RobotPathSetup& setup,
           const unsigned char was = index < record.at_risk.size() ? record.at_risk[index] : 2;
           if (!r.stability || was == 2)
             continue;
-          const bool risk = r.drawn ? r.at_risk_drawn : r.at_risk;
+          const bool risk = r.at_risk_to_optimize();
           if (risk && was == 0) {
             ++rerun.newly_at_risk;
             if (rerun.first_newly_at_risk_line == 0)

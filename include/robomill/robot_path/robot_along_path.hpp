@@ -209,6 +209,10 @@ struct RobotSample {
   /// ap × risk_margin ≥ depth_limit_at_bound_m: with risk_margin 1, P(chatter)
   /// over the bound.
   bool at_risk_drawn = false;
+
+  /// The risk `--optimize` keeps away from: with draws here, P(chatter) over
+  /// the bound (at_risk_drawn); else the nominal limit's (at_risk).
+  bool at_risk_to_optimize() const { return drawn ? at_risk_drawn : at_risk; }
 };
 
 /// A program line whose P(chatter) over the draws exceeds the bound, at its
