@@ -268,20 +268,22 @@ def listen(job, threads: int = 0, out: Optional[PathLike] = None) -> dict:
 
 
 def analyze_signal(samples, sample_rate_hz: float, spindle_rpm: float, teeth: int = 1,
-                   full_scale: float = 0.0, ignore_hz=(), threshold: float = 0.5) -> dict:
+                   full_scale: float = 0.0, ignore_hz=(), threshold: Optional[float] = None) -> dict:
     """The ``listen`` detector on samples in memory (a 1-D NumPy array, any
     unit): the keys of a recording in listen's summary.json — "verdict"
     ("stable", "chatter" or "unknown"), "reason", "chatter_freq_hz" (None
     unless the verdict is chatter; the strongest line no harmonic explains is
     "strongest_nonharmonic_hz"), "spindle_rpm_measured",
-    "chatter_energy_fraction", "onset_s", "recommended_spindle_rpm" (within
+    "chatter_line_fraction" (the verdict's indicator, compared with
+    ``threshold``: None is listen's default), "chatter_energy_fraction",
+    "once_per_revolution_variance", "onset_s", "recommended_spindle_rpm" (within
     0.5-1.5 x ``spindle_rpm``), ... — and the spectra as arrays: "freq_hz",
     "psd", "cause", "spectrogram_t_s", "spectrogram_freq_hz",
     "spectrogram_psd" (frames x frequencies). ``full_scale`` > 0 enables the
     clipping check."""
+    extra = {} if threshold is None else {"threshold": float(threshold)}
     return _robomill.analyze_signal(samples, float(sample_rate_hz), float(spindle_rpm), int(teeth),
-                                    float(full_scale), [float(f) for f in ignore_hz],
-                                    float(threshold))
+                                    float(full_scale), [float(f) for f in ignore_hz], **extra)
 
 
 def atlas(job, threads: int = 0, restart: bool = False) -> dict:

@@ -310,7 +310,7 @@ void register_toolpath_and_listen(py::module_& m) {
         robomill::monitoring::ListenOptions options;
         options.commanded_spindle_hz = spindle_rpm / 60.0;
         options.teeth = teeth;
-        options.chatter_energy_threshold = threshold;
+        options.chatter_line_threshold = threshold;
         for (double f : ignore_hz)
           options.ignore.push_back({f, 0.0});
         // A recording without a file, a depth or a diagram (no "depth_mm",
@@ -352,7 +352,7 @@ void register_toolpath_and_listen(py::module_& m) {
       },
       py::arg("samples"), py::arg("sample_rate_hz"), py::arg("spindle_rpm"), py::arg("teeth") = 1,
       py::arg("full_scale") = 0.0, py::arg("ignore_hz") = std::vector<double>{},
-      py::arg("threshold") = 0.5);
+      py::arg("threshold") = robomill::monitoring::ListenOptions{}.chatter_line_threshold);
 }
 
 /// deflection, fit_modes, simulate and frf.

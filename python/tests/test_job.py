@@ -333,6 +333,16 @@ def test_analyze_signal_on_a_numpy_array():
                                       6000.0, teeth=2)
     assert chatter["verdict"] == "chatter", chatter["reason"]
     assert chatter["chatter_freq_hz"] == pytest.approx(731.0, rel=0.005)
+    # The verdict's indicators: the tone is nearly all that is off the
+    # harmonics, and once-per-revolution samples vary by its share of the cut
+    # (4.5 of 4.5 + 0.73).
+    assert chatter["chatter_line_fraction"] > 0.95
+    assert chatter["once_per_revolution_variance"] == pytest.approx(4.5 / (4.5 + 0.7318), abs=0.02)
+    # The verdict asks the line fraction to exceed the threshold: at its own
+    # value the cut is stable.
+    strict = robomill.analyze_signal(forced + noise + 3.0 * np.sin(2 * np.pi * 731.0 * t), rate,
+                                     6000.0, teeth=2, threshold=chatter["chatter_line_fraction"])
+    assert strict["verdict"] == "stable", strict["reason"]
     assert chatter["psd"].shape == chatter["freq_hz"].shape
     assert chatter["spectrogram_psd"].shape == (chatter["spectrogram_t_s"].size,
                                                chatter["spectrogram_freq_hz"].size)

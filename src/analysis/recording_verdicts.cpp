@@ -87,6 +87,10 @@ RecordingVerdict judge_recording(
   options.commanded_spindle_hz = j.commanded_spindle_rad_s / kTwoPi;
   options.teeth = teeth;
   options.ignore = spec.ignore;
+  if (!spec.tachometer.empty()) {
+    j.tachometer = io::read_tachometer(spec);
+    options.tachometer_spindle_hz = j.tachometer->spindle_hz;
+  }
   const std::string stage = job.recordings.size() > 1
                                 ? fmt::format("listen {}/{}", r + 1, job.recordings.size())
                                 : std::string("listen");

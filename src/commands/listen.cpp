@@ -69,7 +69,7 @@ std::string power_column(const std::vector<analysis::RecordingVerdict>& judged) 
 
 // spectrum.csv: every recording's Welch PSD with each bin's cause;
 // spectrogram.csv: its short-time spectra thinned to kSpectrogramBands bands
-// and each frame's chatter share.
+// and each frame's chatter line fraction (the verdict's indicator).
 void add_spectrum_tables(const std::vector<analysis::RecordingVerdict>& judged,
                          const std::string& power, CommandResult& result) {
   io::CsvTable spectrum({"freq_hz", power, "cause", "recording"});
@@ -105,8 +105,9 @@ void add_spectrum_tables(const std::vector<analysis::RecordingVerdict>& judged,
 io::CsvTable recordings_table(const std::vector<analysis::RecordingVerdict>& judged) {
   io::CsvTable table({"recording", "file", "note", "spindle_rpm_commanded", "spindle_rpm_measured",
                       "depth_mm", "chatter", "chatter_freq_hz", "chatter_energy_fraction",
-                      "onset_s", "recommended_spindle_rpm", "model_depth_limit_mm",
-                      "model_chatter_freq_hz", "reason"});
+                      "chatter_line_fraction", "once_per_revolution_variance", "onset_s",
+                      "recommended_spindle_rpm", "model_depth_limit_mm", "model_chatter_freq_hz",
+                      "reason"});
   for (std::size_t r = 0; r < judged.size(); ++r) {
     const analysis::RecordingVerdict& j = judged[r];
     const monitoring::RecordingAnalysis& a = j.analysis;
@@ -127,7 +128,8 @@ io::CsvTable recordings_table(const std::vector<analysis::RecordingVerdict>& jud
          std::string(monitoring::verdict_name(a.verdict)),
          cell(
              or_nan(a.verdict == monitoring::Verdict::chatter && a.chatter_hz > 0.0, a.chatter_hz)),
-         a.chatter_energy_fraction, cell(or_nan(a.onset_s.has_value(), a.onset_s.value_or(0.0))),
+         a.chatter_energy_fraction, a.chatter_line_fraction, a.once_per_revolution_variance,
+         cell(or_nan(a.onset_s.has_value(), a.onset_s.value_or(0.0))),
          cell(or_nan(!j.advice.empty(),
                      j.advice.empty() ? 0.0 : j.advice.front().spindle_hz * 60.0)),
          cell(or_nan(j.prediction.has_value(),
@@ -161,7 +163,8 @@ nlohmann::json listen_summary(const job::Job& job, const analysis::RecordingVerd
   summary["advice_spindle_range_rpm"] = {last.advice_spindle_min_rad_s * 60.0 / kTwoPi,
                                          last.advice_spindle_max_rad_s * 60.0 / kTwoPi};
   summary["advice_spindle_range_basis"] = verdicts.advice_range_basis;
-  summary["threshold"] = job.listen ? job.listen->detector.chatter_energy_threshold : 0.5;
+  summary["threshold"] = job.listen ? job.listen->detector.chatter_line_threshold
+                                    : monitoring::ListenOptions{}.chatter_line_threshold;
   summary["psd_column"] = power;
   summary["model"] =
       lobes ? nlohmann::json("stability lobes of the job (sld.csv)") : nlohmann::json(nullptr);
@@ -178,8 +181,8 @@ std::string listen_message(const std::vector<analysis::RecordingVerdict>& judged
     const monitoring::RecordingAnalysis& a = j.analysis;
     std::string verdict;
     if (a.verdict == monitoring::Verdict::chatter) {
-      verdict = fmt::format("CHATTER at {:.1f} Hz (share {:.2f})", a.chatter_hz,
-                            a.chatter_energy_fraction);
+      verdict = fmt::format("CHATTER at {:.1f} Hz (line fraction {:.2f})", a.chatter_hz,
+                            a.chatter_line_fraction);
       if (a.onset_s)
         verdict += fmt::format(" from {:.2f} s", *a.onset_s);
       if (!j.advice.empty()) {
@@ -189,7 +192,7 @@ std::string listen_message(const std::vector<analysis::RecordingVerdict>& judged
         verdict += " rpm";
       }
     } else if (a.verdict == monitoring::Verdict::stable) {
-      verdict = fmt::format("stable (chatter share {:.2f})", a.chatter_energy_fraction);
+      verdict = fmt::format("stable (chatter line fraction {:.2f})", a.chatter_line_fraction);
     } else {
       verdict = "unknown: " + a.reason;
     }
@@ -231,12 +234,23 @@ nlohmann::json listen_recording_json(const analysis::RecordingVerdict& j) {
       {"spindle_rpm_commanded", j.commanded_spindle_rad_s * 60.0 / kTwoPi},
       {"spindle_rpm_measured", a.spindle_hz_measured * 60.0},
       {"spindle_refined", a.spindle_refined},
+      {"spindle_source", a.spindle_source},
+      {"tachometer_pulses",
+       j.tachometer ? nlohmann::json(j.tachometer->pulses) : nlohmann::json(nullptr)},
+      {"tachometer_period_spread",
+       j.tachometer ? nlohmann::json(j.tachometer->period_spread) : nlohmann::json(nullptr)},
       {"tooth_freq_hz", a.tooth_hz},
       {"teeth", j.teeth},
       {"chatter_energy_fraction", a.chatter_energy_fraction},
       {"forced_energy_fraction", a.forced_energy_fraction},
       {"ignored_energy_fraction", a.ignored_energy_fraction},
       {"floor_energy_fraction", a.floor_energy_fraction},
+      {"chatter_line_fraction", a.chatter_line_fraction},
+      {"once_per_revolution_variance", a.once_per_revolution_variance},
+      {"once_per_tooth_variance", a.once_per_tooth_variance},
+      {"chatter_growth_db_per_s", a.chatter_growth_db_per_s
+                                      ? nlohmann::json(*a.chatter_growth_db_per_s)
+                                      : nlohmann::json(nullptr)},
       {"onset_s", a.onset_s ? nlohmann::json(*a.onset_s) : nlohmann::json(nullptr)},
       {"engaged_start_s",
        a.engaged_start_s ? nlohmann::json(*a.engaged_start_s) : nlohmann::json(nullptr)},

@@ -92,6 +92,26 @@ io::RecordingSpec read_recording(SectionReader& r, const Job& job, bool listed) 
   } else if (r.has("ignore_width")) {
     r.fail("ignore_width", "needs ignore: the lines it widens");
   }
+  spec.tachometer = r.optional_text("tachometer").value_or("");
+  if (!spec.tachometer.empty() &&
+      (spec.format == io::RecordingFormat::sound_file || spec.format == io::RecordingFormat::uff)) {
+    int number = 0;
+    const std::string& text = spec.tachometer;
+    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), number);
+    if (error != std::errc() || end != text.data() + text.size() || number < 1 || number > 4096)
+      r.fail(
+          "tachometer",
+          fmt::format("expected the channel number (from 1) of the pulse train, got '{}'", text));
+    if (number == spec.channel)
+      r.fail("tachometer", fmt::format("channel {} is the signal's own (channel:)", number));
+  } else if (!spec.tachometer.empty() && spec.tachometer == spec.column) {
+    r.fail("tachometer", fmt::format("column '{}' is the signal's own (column:)", spec.column));
+  }
+  if (r.has("tachometer_pulses")) {
+    if (spec.tachometer.empty())
+      r.fail("tachometer_pulses", "needs tachometer: the pulse channel it describes");
+    spec.tachometer_pulses = r.integer("tachometer_pulses", 1, 1000);
+  }
   spec.spindle_rad_s = r.optional_quantity("spindle", rpm());
   spec.depth_m = r.optional_quantity("depth", length_mm());
   spec.note = r.optional_text("note").value_or("");
@@ -111,8 +131,8 @@ ListenSettings read_listen(SectionReader& r) {
   monitoring::ListenOptions& d = s.detector;
   d.spindle_search_fraction =
       r.quantity_or("spindle_search", dimensionless(kNonNegative, Bound{0.5, true}), 0.1);
-  d.chatter_energy_threshold =
-      r.quantity_or("threshold", dimensionless(kPositive, Bound{1.0, false}), 0.5);
+  d.chatter_line_threshold = r.quantity_or("threshold", dimensionless(kPositive, Bound{1.0, false}),
+                                           monitoring::ListenOptions{}.chatter_line_threshold);
   d.detect_mains = r.choice("mains", {"auto", "off"}, "auto") == "auto";
   d.detect_steady_lines = r.boolean_or("steady_lines", true);
   d.judge_engaged_stretch = r.boolean_or("engaged_only", true);

@@ -475,6 +475,17 @@ SpindleComb measure_spindle(const ListenOptions& options, const Spectrum& s, con
       std::max(1, std::min({kUnrefinedHarmonics * teeth, kMaxCoarseHarmonics, in_band}));
   comb.fine_harmonics = std::max(1, std::min(200, in_band));
   const int coarse_harmonics = comb.coarse_harmonics, fine_harmonics = comb.fine_harmonics;
+  if (options.tachometer_spindle_hz) {
+    // Counted on a pulse channel over the whole stretch: known far better
+    // than the spectrum's bins resolve it (taken as a refined comb's).
+    r.spindle_hz_measured = *options.tachometer_spindle_hz;
+    r.spindle_refined = true;
+    r.spindle_source = "tachometer";
+    comb.spindle_hz = r.spindle_hz_measured;
+    r.tooth_hz = comb.spindle_hz * options.teeth;
+    comb.uncertainty_hz = df / (2.0 * fine_harmonics);
+    return comb;
+  }
   const CoarseComb coarse =
       coarse_comb_search(options, s, lines, r.psd, f0, search, coarse_harmonics);
   const double coarse_step = coarse_comb_step(df, coarse_harmonics, search);
@@ -489,6 +500,7 @@ SpindleComb measure_spindle(const ListenOptions& options, const Spectrum& s, con
     if (!(search > 0.0 && std::abs(estimate - f0) > search - 2.0 * coarse_step)) {
       r.spindle_hz_measured = estimate;
       r.spindle_refined = true;
+      r.spindle_source = "comb";
     }
   }
   comb.spindle_hz = r.spindle_hz_measured;
@@ -547,8 +559,9 @@ void attribute_bins(const ListenOptions& options, const Spectrum& s, const LineB
 // the comb would call runout. Runout modulates the tooth force by a
 // fraction of it, so its lines hold less than the tooth harmonics; when
 // the spindle-but-not-tooth harmonics hold more, they are chatter.
-void reattribute_period_doubling(const ListenOptions& options, const Spectrum& s,
-                                 const LineBins& lines, RecordingAnalysis& r) {
+void reattribute_period_doubling(const ListenOptions& options, const Spectrum& s, LineBins& lines,
+                                 RecordingAnalysis& r) {
+  lines.doubled.assign(s.bins, 0);
   if (options.teeth > 1) {
     double spindle_power = 0.0, tooth_power = 0.0;
     for (std::size_t k = s.first_bin; k <= s.last_bin; ++k) {
@@ -559,8 +572,10 @@ void reattribute_period_doubling(const ListenOptions& options, const Spectrum& s
     }
     if (spindle_power > tooth_power)
       for (std::size_t k = s.first_bin; k <= s.last_bin; ++k)
-        if (r.cause[k] == LineCause::spindle)
+        if (r.cause[k] == LineCause::spindle) {
           r.cause[k] = LineCause::chatter;
+          lines.doubled[k] = 1;
+        }
   }
 }
 
@@ -639,6 +654,35 @@ void set_aside_steady_lines(const ListenOptions& options, const Spectrum& s, con
           r.cause[j] = LineCause::steady_line;
     }
   }
+}
+
+// A line's skirts: the line bins extend from a peak while the PSD stays
+// above the mean noise, beyond the main lobe that a forced or set-aside
+// line is attributed by (a strong line's leakage reaches further). A
+// chatter-candidate bin whose way uphill, within its run of line bins, ends
+// on a peak of another cause is that line's skirt, not a line of its own:
+// in a clean recording, where the floor is low, such skirts would otherwise
+// be most of what is off the harmonics.
+void give_skirts_to_their_peaks(const Spectrum& s, const LineBins& lines, RecordingAnalysis& r) {
+  std::vector<LineCause> cause = r.cause;
+  for (std::size_t k = s.first_bin; k <= s.last_bin; ++k) {
+    if (r.cause[k] != LineCause::chatter || !lines.in_line[k])
+      continue;
+    std::size_t top = k;
+    for (;;) {
+      std::size_t next = top;
+      if (top > s.first_bin && lines.in_line[top - 1] && r.psd[top - 1] > r.psd[next])
+        next = top - 1;
+      if (top < s.last_bin && lines.in_line[top + 1] && r.psd[top + 1] > r.psd[next])
+        next = top + 1;
+      if (next == top)
+        break;
+      top = next;
+    }
+    if (r.cause[top] != LineCause::chatter && r.cause[top] != LineCause::floor)
+      cause[k] = r.cause[top];
+  }
+  r.cause = std::move(cause);
 }
 
 std::vector<char> narrow_comb_bins(const Spectrum& s, const LineBins& lines,

@@ -38,6 +38,7 @@ struct LineBins {
   std::vector<double> noise;    ///< mean noise: the floor over the median-to-mean ratio
   std::vector<char> in_line;    ///< the bin belongs to a line
   std::vector<char> mains_bin;  ///< the bin belongs to a mains line
+  std::vector<char> doubled;    ///< a spindle-harmonic bin made chatter (period doubling)
   double line_ratio = 0.0;      ///< a line's PSD over the floor
   double threshold_ln = 0.0;    ///< ln line_ratio
 };
@@ -83,8 +84,9 @@ void attribute_bins(const ListenOptions& options, const Spectrum& s, const LineB
 
 /// Stage 3, period doubling: the spindle-but-not-tooth harmonics become
 /// chatter when they hold more than the tooth harmonics (several teeth).
-void reattribute_period_doubling(const ListenOptions& options, const Spectrum& s,
-                                 const LineBins& lines, RecordingAnalysis& r);
+/// Marks those bins in lines.doubled (they repeat once per revolution).
+void reattribute_period_doubling(const ListenOptions& options, const Spectrum& s, LineBins& lines,
+                                 RecordingAnalysis& r);
 
 /// Stage 3, the lines: local maxima of the line bins, in frequency order.
 std::vector<Peak> find_line_peaks(const Spectrum& s, const LineBins& lines,
@@ -101,6 +103,10 @@ void set_aside_mains_combs(const ListenOptions& options, const Spectrum& s, cons
 void set_aside_steady_lines(const ListenOptions& options, const Spectrum& s, const LineBins& lines,
                             const std::vector<Peak>& peaks, const WelchStream& welch,
                             RecordingAnalysis& r);
+
+/// Stage 3, skirts: a chatter-candidate line bin whose way uphill ends on a
+/// forced or set-aside peak takes that peak's cause.
+void give_skirts_to_their_peaks(const Spectrum& s, const LineBins& lines, RecordingAnalysis& r);
 
 /// The bins of the measured comb's narrow lines: forced (spindle or tooth)
 /// line bins whose run of line bins is no wider than a steady line's. What

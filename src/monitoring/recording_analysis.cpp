@@ -56,6 +56,11 @@ constexpr double kFewestSegments = 2.0;
 double longest_segment(double samples, double segments) {
   return samples / (0.5 * (segments + 1.0));
 }
+/// A chatter-candidate line that is strongest in the judged stretch's first
+/// frame and within this many dB of that for less than half of the stretch
+/// rings down: a transient (judged from kMinHistoryFrames frames).
+constexpr double kMaxChatterDecayDb = 10.0;
+constexpr std::size_t kMinHistoryFrames = 4;
 /// Clipping: samples within 0.1 % of full scale; more than 0.1 % of them and
 /// the spectrum holds the clipping's harmonics, not the cut's.
 constexpr double kClipLevel = 0.999;
@@ -364,53 +369,86 @@ bool choose_band(const ListenOptions& options, Spectrum& s, RecordingAnalysis& r
   return true;
 }
 
-/// Stage 4's sums of the lines' power above the noise: the forced lines'
-/// and the chatter lines'.
+/// Stage 4's sums over the band: the lines' power above the noise by cause
+/// (forced: spindle and tooth harmonics; runout: the spindle's harmonics
+/// that are not the tooth's) and the broadband floor (the band's power less
+/// every line's excess: the noise under the lines included).
 struct LineEnergies {
-  double forced = 0.0, chatter = 0.0;
+  double forced = 0.0, runout = 0.0, chatter = 0.0, aside = 0.0, floor = 0.0, total = 0.0;
+  double doubled = 0.0;  ///< the chatter on spindle harmonics (period doubling)
 };
 
-/// Stage 4, the energies: the band's power shared among chatter, forced
-/// lines, lines set aside and the floor (r's *_energy_fraction).
-LineEnergies energy_fractions(const Spectrum& s, const LineBins& lines, RecordingAnalysis& r) {
-  const double df = s.df;
-  double forced = 0.0, chatter = 0.0, aside = 0.0, total = 0.0, lines_total = 0.0;
+/// The indicators of stage 4 from the band's sums (r's fractions): the
+/// energy fractions of the band's total, the chatter line fraction and the
+/// once-per-period sampling variances. Shared by the whole spectrum and the
+/// short-time frames (the onset).
+void set_indicators(const LineEnergies& e, RecordingAnalysis& r) {
+  // The fractions of everything the sensor recorded in the band (they add
+  // up to one): chatter, forced lines, lines set aside, the broadband floor.
+  if (e.total > 0.0) {
+    r.chatter_energy_fraction = e.chatter / e.total;
+    r.forced_energy_fraction = e.forced / e.total;
+    r.ignored_energy_fraction = e.aside / e.total;
+    r.floor_energy_fraction = e.floor / e.total;
+  }
+  // The verdict's indicator weighs chatter evidence against the rest of the
+  // power off the spindle's harmonics only: neither the forced lines nor the
+  // lines set aside enter it, so a loud tooth comb with chatter beside it
+  // (issue 34: 32 % chatter, 59 % forced in a 9100 rpm cut) and a loud hum
+  // over a chattering slot (57 % in a 150 Hz line) do not hide the chatter.
+  if (e.chatter + e.floor > 0.0)
+    r.chatter_line_fraction = e.chatter / (e.chatter + e.floor);
+  // Period-doubling chatter sits on the spindle's harmonics: it repeats once
+  // per revolution and varies once per tooth (Schmitz samples once per
+  // tooth for it).
+  const double cut = e.chatter + e.forced + e.floor;
+  if (cut > 0.0) {
+    r.once_per_revolution_variance = (e.chatter - e.doubled + e.floor) / cut;
+    r.once_per_tooth_variance = (e.chatter + e.runout + e.floor) / cut;
+  }
+}
+
+/// Stage 4, the band's sums of power by cause (the PSD's or a frame's:
+/// `power(k)` in signal unit²/Hz, `noise` the mean noise under it).
+template <class Power>
+LineEnergies band_energies(const Spectrum& s, const std::vector<LineCause>& cause,
+                           const LineBins& lines, Power power) {
+  const std::vector<double>& noise = lines.noise;
+  LineEnergies e;
+  double lines_total = 0.0;
   for (std::size_t k = s.first_bin; k <= s.last_bin; ++k) {
-    total += r.psd[k] * df;
-    if (r.cause[k] == LineCause::floor)
+    const double p = power(k);
+    e.total += p * s.df;
+    if (cause[k] == LineCause::floor)
       continue;
-    const double e = detail::excess_power(s, lines, r.psd, k);
-    lines_total += e;
-    switch (r.cause[k]) {
+    const double excess = std::max(0.0, p - noise[k]) * s.df;
+    lines_total += excess;
+    switch (cause[k]) {
       case LineCause::spindle:
+        e.runout += excess;
+        e.forced += excess;
+        break;
       case LineCause::tooth:
-        forced += e;
+        e.forced += excess;
         break;
       case LineCause::chatter:
-        chatter += e;
+        e.chatter += excess;
+        if (lines.doubled[k])
+          e.doubled += excess;
         break;
       default:
-        aside += e;
+        e.aside += excess;
     }
   }
-  // The fractions are of everything the sensor recorded in the band (they
-  // add up to one): chatter, forced lines, lines set aside, the broadband
-  // floor. The verdict asks chatter evidence to outweigh all the rest, as an
-  // operator hears chatter when it drowns the cut's other sounds (003 §4:
-  // the robot's modes "outweigh" the spindle frequency). Weighed against the
-  // forced comb alone, a turning cut, whose forced comb is weak, would be
-  // called chatter for a few of the drives' lines (the Khasawneh stable
-  // recordings: 58 % and 72 % of the non-mains power sit in such lines, 17 %
-  // and 22 % of the total). Lines set aside are never chatter evidence, but
-  // they are what the sensor heard: a hum louder than the chatter leaves the
-  // cut "stable" (docs/monitoring.md, limits).
-  if (total > 0.0) {
-    r.chatter_energy_fraction = chatter / total;
-    r.forced_energy_fraction = forced / total;
-    r.ignored_energy_fraction = aside / total;
-    r.floor_energy_fraction = std::max(0.0, total - lines_total) / total;
-  }
-  return {forced, chatter};
+  e.floor = std::max(0.0, e.total - lines_total);
+  return e;
+}
+
+/// Stage 4, the energies and the indicators of the whole spectrum.
+LineEnergies energy_fractions(const Spectrum& s, const LineBins& lines, RecordingAnalysis& r) {
+  const LineEnergies e = band_energies(s, r.cause, lines, [&](std::size_t k) { return r.psd[k]; });
+  set_indicators(e, r);
+  return e;
 }
 
 /// Stage 4, the lines (r.lines): the peaks sorted strongest first (in
@@ -470,12 +508,11 @@ void chatter_frequency(const Spectrum& s, const std::vector<Peak>& peaks, Record
 }
 
 /// Stage 5's input: the spectrogram (bins averaged to at most kDisplayBins
-/// columns) and each frame's chatter share (the same causes, the frame's own
-/// power above the mean noise).
+/// columns) and each frame's chatter line fraction (the same causes, the
+/// frame's own power above the mean noise).
 void fill_spectrogram(const SignalInfo& info, const Spectrum& s, const LineBins& lines,
                       const detail::WelchStream& welch, RecordingAnalysis& r) {
   const std::size_t bins = s.bins, length = s.length, columns = welch.columns();
-  const std::vector<double>& noise = lines.noise;
   const std::size_t group = (bins + kDisplayBins - 1) / kDisplayBins;
   const std::size_t display_bins = (bins + group - 1) / group;
   r.spectrogram_frequency_hz.resize(display_bins);
@@ -498,16 +535,12 @@ void fill_spectrogram(const SignalInfo& info, const Spectrum& s, const LineBins&
         sum += (k == 0 || 2 * k == length ? 1.0 : 2.0) * norm * col[k];
       r.spectrogram_psd[c * display_bins + d] = sum / static_cast<double>(to - from);
     }
-    // The frame's chatter share, as the verdict's: the chatter lines' power
-    // above the noise over the frame's power in the band.
-    double frame_cut = 0.0, frame_chatter = 0.0;
-    for (std::size_t k = s.first_bin; k <= s.last_bin; ++k) {
-      const double p = 2.0 * norm * col[k];
-      frame_cut += p;
-      if (r.cause[k] == LineCause::chatter)
-        frame_chatter += std::max(0.0, p - noise[k]);
-    }
-    r.frame_chatter_fraction[c] = frame_cut > 0.0 ? frame_chatter / frame_cut : 0.0;
+    // The frame's chatter line fraction, as the verdict's, with the
+    // whole spectrum's causes.
+    const LineEnergies e =
+        band_energies(s, r.cause, lines, [&](std::size_t k) { return 2.0 * norm * col[k]; });
+    r.frame_chatter_fraction[c] =
+        e.chatter + e.floor > 0.0 ? e.chatter / (e.chatter + e.floor) : 0.0;
   }
 }
 
@@ -527,14 +560,81 @@ void find_onset(double threshold, std::size_t columns, RecordingAnalysis& r) {
     r.onset_s = r.spectrogram_time_s[*onset];
 }
 
+/// Stage 4, the history of the strongest chatter-candidate line over the
+/// judged stretch: its short-time power per frame (the main lobe's bins
+/// summed), the least-squares slope (r.chatter_growth_db_per_s, dB/s, from
+/// 3 frames), and whether it dies away.
+struct LineHistory {
+  bool dies_away = false;
+  double peak_s = 0.0;      ///< the frame where the line is strongest
+  double strong_share = 1;  ///< of the frames, those within kMaxChatterDecayDb of its peak
+};
+
+LineHistory chatter_line_history(const Spectrum& s, const detail::WelchStream& welch,
+                                 RecordingAnalysis& r) {
+  LineHistory h;
+  if (!(r.chatter_hz > 0.0))
+    return h;
+  const auto centre = static_cast<std::size_t>(std::llround(r.chatter_hz / s.df));
+  const auto reach = static_cast<std::size_t>(kMainLobeBins);
+  if (centre < s.first_bin + reach || centre + reach > s.last_bin)
+    return h;
+  std::vector<double> time_s, level_db;
+  for (std::size_t c = 0; c < welch.columns(); ++c) {
+    const double t = r.spectrogram_time_s[c];
+    if ((r.engaged_start_s && t < *r.engaged_start_s) || (r.engaged_end_s && t > *r.engaged_end_s))
+      continue;
+    const double* col = welch.column(c);
+    double power = 0.0;
+    for (std::size_t k = centre - reach; k <= centre + reach; ++k)
+      power += col[k];
+    power /= static_cast<double>(welch.column_segments(c));
+    if (power > 0.0) {
+      time_s.push_back(t);
+      level_db.push_back(10.0 * std::log10(power));
+    }
+  }
+  const auto n = static_cast<double>(time_s.size());
+  double st = 0.0, sy = 0.0, stt = 0.0, sty = 0.0;
+  for (std::size_t i = 0; i < time_s.size(); ++i) {
+    st += time_s[i];
+    sy += level_db[i];
+    stt += time_s[i] * time_s[i];
+    sty += time_s[i] * level_db[i];
+  }
+  const double spread = n * stt - st * st;
+  if (n >= 3.0 && spread > 0.0)
+    r.chatter_growth_db_per_s = (n * sty - st * sy) / spread;
+  // Dies away: strongest in the stretch's first frame and within 10 dB of
+  // that for less than half of it. A transient of the cut's start (the
+  // tool's entry) rings down from there; chatter grows and holds. A
+  // recording that starts before the cut has its peak later, where the cut
+  // begins, and is not judged by this rule: chatter in a short cut amid air
+  // is strong for less than half of it too.
+  if (time_s.size() >= kMinHistoryFrames) {
+    const auto peak = static_cast<std::size_t>(std::max_element(level_db.begin(), level_db.end()) -
+                                               level_db.begin());
+    std::size_t strong = 0;
+    for (double db : level_db)
+      strong += db > level_db[peak] - kMaxChatterDecayDb;
+    h.peak_s = time_s[peak];
+    h.strong_share = static_cast<double>(strong) / n;
+    h.dies_away = peak == 0 && 2 * strong < time_s.size();
+  }
+  return h;
+}
+
 /// Stage 4, the verdict (r.verdict, r.reason): unknown for a clipped signal
 /// or one without lines, else chatter when the chatter evidence's share
 /// exceeds the threshold (then stage 5, the onset), else stable.
 void judge(const SignalInfo& info, const ListenOptions& options, const LineEnergies& energies,
-           std::size_t columns, RecordingAnalysis& r) {
-  const double threshold = options.chatter_energy_threshold;
+           std::size_t columns, const LineHistory& history, RecordingAnalysis& r) {
+  const double threshold = options.chatter_line_threshold;
   const std::string spindle_text =
-      r.spindle_refined
+      r.spindle_source == "tachometer"
+          ? fmt::format("spindle {} from the tachometer ({} commanded)",
+                        hz_text(r.spindle_hz_measured), hz_text(r.spindle_hz_commanded))
+      : r.spindle_refined
           ? fmt::format("spindle {} measured ({} commanded)", hz_text(r.spindle_hz_measured),
                         hz_text(r.spindle_hz_commanded))
           : fmt::format("spindle {} as commanded (no comb of harmonics stood above the floor)",
@@ -554,19 +654,43 @@ void judge(const SignalInfo& info, const ListenOptions& options, const LineEnerg
         spindle_text);
     return;
   }
-  if (r.chatter_energy_fraction > threshold) {
+  const bool lines_say_chatter = r.chatter_line_fraction > threshold;
+  const bool samples_repeat = r.once_per_tooth_variance < kMinOncePerPeriodVariance;
+  // Chatter is self-excited: it grows to a limit cycle and holds while the
+  // cut lasts. A line that rings down from the start of the stretch was
+  // excited once (the tool's entry) and is a free vibration decaying.
+  if (lines_say_chatter && !samples_repeat && history.dies_away) {
+    r.verdict = Verdict::stable;
+    r.reason = fmt::format(
+        "stable: the line at {} off the spindle's harmonics rings down from {:.2f} s (within "
+        "{:.0f} dB of its peak for {:.0f} % of the frames): a decaying free vibration, not "
+        "self-excited chatter (lines off the harmonics hold {:.1f} % of the power off them); {}",
+        hz_text(r.chatter_hz), history.peak_s, kMaxChatterDecayDb, 100.0 * history.strong_share,
+        100.0 * r.chatter_line_fraction, spindle_text);
+  } else if (lines_say_chatter && !samples_repeat) {
     r.verdict = Verdict::chatter;
     r.reason = fmt::format(
-        "chatter at {}: lines off the spindle's harmonics and not set aside hold {:.1f} % of the "
-        "recorded power (threshold {:.0f} %); {}",
-        hz_text(r.chatter_hz), 100.0 * r.chatter_energy_fraction, 100.0 * threshold, spindle_text);
+        "chatter at {}: lines off the spindle's harmonics hold {:.1f} % of the power off them "
+        "(threshold {:.0f} %; {:.1f} % of everything recorded, the spindle's and the teeth's "
+        "harmonics {:.1f} %); {}",
+        hz_text(r.chatter_hz), 100.0 * r.chatter_line_fraction, 100.0 * threshold,
+        100.0 * r.chatter_energy_fraction, 100.0 * r.forced_energy_fraction, spindle_text);
     find_onset(threshold, columns, r);
+  } else if (lines_say_chatter) {
+    r.verdict = Verdict::stable;
+    r.reason = fmt::format(
+        "stable: once-per-tooth samples repeat ({:.1f} % of the cut's power is off the tooth "
+        "harmonics, below {:.0f} %), though lines off the spindle's harmonics hold {:.1f} % of "
+        "the power off them; {}",
+        100.0 * r.once_per_tooth_variance, 100.0 * kMinOncePerPeriodVariance,
+        100.0 * r.chatter_line_fraction, spindle_text);
   } else {
     r.verdict = Verdict::stable;
     r.reason = fmt::format(
-        "stable: chatter evidence holds {:.1f} % of the recorded power (threshold {:.0f} %; the "
-        "spindle's and the teeth's harmonics {:.1f} %); {}",
-        100.0 * r.chatter_energy_fraction, 100.0 * threshold, 100.0 * r.forced_energy_fraction,
+        "stable: lines off the spindle's harmonics hold {:.1f} % of the power off them "
+        "(threshold {:.0f} %; the rest is broadband floor); the spindle's and the teeth's "
+        "harmonics {:.1f} % of everything recorded; {}",
+        100.0 * r.chatter_line_fraction, 100.0 * threshold, 100.0 * r.forced_energy_fraction,
         spindle_text);
   }
 }
@@ -643,6 +767,7 @@ std::vector<char> judge_spectrum(const SignalInfo& info, const ListenOptions& op
   std::vector<Peak> peaks = detail::find_line_peaks(s, lines, r);
   detail::set_aside_mains_combs(options, s, lines, comb, peaks, r);
   detail::set_aside_steady_lines(options, s, lines, peaks, welch, r);
+  detail::give_skirts_to_their_peaks(s, lines, r);
 
   // Stages 4 and 5: the energies, the lines, the spectrogram, the verdict
   // and the onset.
@@ -650,7 +775,8 @@ std::vector<char> judge_spectrum(const SignalInfo& info, const ListenOptions& op
   list_lines(peaks, r);
   chatter_frequency(s, peaks, r);
   fill_spectrogram(info, s, lines, welch, r);
-  judge(info, options, energies, welch.columns(), r);
+  const LineHistory history = chatter_line_history(s, welch, r);
+  judge(info, options, energies, welch.columns(), history, r);
   return detail::narrow_comb_bins(s, lines, r);
 }
 
@@ -756,18 +882,18 @@ RecordingAnalysis analyze_recording(SignalSource& source, const ListenOptions& o
   RecordingAnalysis engaged = read;
   engaged.engaged_start_s =
       info.start_s + static_cast<double>(welch.column_first_sample(stretch->first)) / fs;
-  engaged.engaged_end_s =
+  engaged.engaged_end_s = std::min(
+      info.start_s + r.duration_s,
       info.start_s +
-      static_cast<double>(welch.column_first_sample(stretch->second) +
-                          welch.column_segments(stretch->second) * length / 2 + length / 2) /
-          fs;
+          static_cast<double>(welch.column_first_sample(stretch->second) +
+                              welch.column_segments(stretch->second) * length / 2 + length / 2) /
+              fs);
   stretch_psd(welch, stretch->first, stretch->second, s, engaged);
   judge_spectrum(info, options, s, welch, engaged);
   engaged.reason += fmt::format(
       "; judged from {:.2f} s to {:.2f} s, where the spindle's comb stands within 10 dB of its "
       "level in the cut (the rest is air)",
-      *engaged.engaged_start_s, std::min(*engaged.engaged_end_s, info.start_s + r.duration_s));
-  engaged.engaged_end_s = std::min(*engaged.engaged_end_s, info.start_s + r.duration_s);
+      *engaged.engaged_start_s, *engaged.engaged_end_s);
   return engaged;
 }
 

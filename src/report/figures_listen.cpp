@@ -205,9 +205,16 @@ void listen_figures(const Outputs& o, Content& c) {
                         : json::array({o.summary});
   TextTable verdicts;
   verdicts.title = "Verdicts";
-  verdicts.header = {"#",         "file",         "spindle (rpm, measured)",
-                     "verdict",   "chatter (Hz)", "chatter share",
-                     "onset (s)", "try (rpm)",    "why"};
+  verdicts.header = {"#",
+                     "file",
+                     "spindle (rpm, measured)",
+                     "verdict",
+                     "chatter (Hz)",
+                     "chatter line fraction",
+                     "once-per-rev. variance",
+                     "onset (s)",
+                     "try (rpm)",
+                     "why"};
   for (std::size_t i = 0; i < recordings.size(); ++i) {
     const json& r = recordings[i];
     std::string advice;
@@ -217,9 +224,9 @@ void listen_figures(const Outputs& o, Content& c) {
         advice += (k ? ", " : "") + display(r["recommended_spindle_rpm"][k].get<double>());
     verdicts.rows.push_back({std::to_string(i + 1), text_of(r, "file"),
                              text_of(r, "spindle_rpm_measured"), text_of(r, "verdict"),
-                             text_of(r, "chatter_freq_hz"), text_of(r, "chatter_energy_fraction"),
-                             text_of(r, "onset_s"), advice.empty() ? "—" : advice,
-                             text_of(r, "reason")});
+                             text_of(r, "chatter_freq_hz"), text_of(r, "chatter_line_fraction"),
+                             text_of(r, "once_per_revolution_variance"), text_of(r, "onset_s"),
+                             advice.empty() ? "—" : advice, text_of(r, "reason")});
   }
   c.tables.push_back(std::move(verdicts));
 

@@ -150,6 +150,8 @@ recording:
   duration: 5 s
   ignore: [400 Hz]
   ignore_width: 2 Hz
+  tachometer: once_per_rev
+  tachometer_pulses: 2
   spindle: 3000 rpm
   depth: 1 mm
   note: every key
@@ -169,7 +171,8 @@ listen: {teeth: 2}
 recordings:
   - {file: a.mat, format: mat, channel: 1, variable: tsDS, column: "2", sample_rate: 10 kHz,
      signal: displacement, scale: 1e-3, start: 0 s, duration: 2 s, ignore: [50 Hz],
-     ignore_width: 1 Hz, spindle: 425 rpm, depth: 0.5 mm, note: first}
+     ignore_width: 1 Hz, tachometer: "3", tachometer_pulses: 1, spindle: 425 rpm, depth: 0.5 mm,
+     note: first}
 )",
     // Uncertain inputs: every key of uncertainty: and of its variables.
     R"(name: kitchen sink 6

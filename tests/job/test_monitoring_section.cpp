@@ -31,6 +31,8 @@ TEST(MonitoringSection, RecordingReachesSi) {
   duration: 2000 ms
   ignore: [120 Hz, 0.3 kHz]
   ignore_width: 2 Hz
+  tachometer: 3
+  tachometer_pulses: 2
   spindle: 8200 rpm
   depth: 2 mm
   note: first pass
@@ -58,6 +60,8 @@ listen:
   ASSERT_EQ(r.ignore.size(), 2u);
   EXPECT_DOUBLE_EQ(r.ignore[1].frequency_hz, 300.0);
   EXPECT_DOUBLE_EQ(r.ignore[1].half_width_hz, 1.0);
+  EXPECT_EQ(r.tachometer, "3");
+  EXPECT_EQ(r.tachometer_pulses, 2);
   EXPECT_NEAR(*r.spindle_rad_s, 8200 * kRpm, 1e-9);
   EXPECT_DOUBLE_EQ(*r.depth_m, 2e-3);
   EXPECT_EQ(r.note, "first pass");
@@ -66,7 +70,7 @@ listen:
   ASSERT_TRUE(job.listen);
   EXPECT_EQ(*job.listen->teeth, 3);
   EXPECT_DOUBLE_EQ(job.listen->detector.spindle_search_fraction, 0.05);
-  EXPECT_DOUBLE_EQ(job.listen->detector.chatter_energy_threshold, 0.6);
+  EXPECT_DOUBLE_EQ(job.listen->detector.chatter_line_threshold, 0.6);
   EXPECT_FALSE(job.listen->detector.detect_mains);
   EXPECT_FALSE(job.listen->detector.detect_steady_lines);
   EXPECT_DOUBLE_EQ(job.listen->detector.band_high_hz, 5000.0);
@@ -81,7 +85,7 @@ tool: {diameter: 10 mm, teeth: 2}
 recordings:
   - {file: a.FLAC}
   - {file: b.mat, variable: tsDS, column: "3"}
-  - {file: c.csv, column: ax, sample_rate: 10 kHz}
+  - {file: c.csv, column: ax, sample_rate: 10 kHz, tachometer: rpm_pulse}
   - {file: d.uff, channel: mix}
 )",
                 "job.yaml");
@@ -95,6 +99,9 @@ recordings:
   EXPECT_EQ(job.recordings[1].variable, "tsDS");
   EXPECT_EQ(job.recordings[2].format, RecordingFormat::csv);
   EXPECT_DOUBLE_EQ(*job.recordings[2].sample_rate_hz, 1e4);
+  EXPECT_EQ(job.recordings[2].tachometer, "rpm_pulse");
+  EXPECT_EQ(job.recordings[2].tachometer_pulses, 1);
+  EXPECT_TRUE(job.recordings[0].tachometer.empty());
   EXPECT_EQ(job.recordings[3].format, RecordingFormat::uff);
   EXPECT_EQ(job.recordings[3].channel, 0);
   EXPECT_EQ(job.recordings[3].path, "recordings[3]");
@@ -113,6 +120,17 @@ TEST(MonitoringSection, MalformedSectionsNameFieldAndLine) {
                "recording.signal", 4, "acceleration");
   expect_error("recording:\n  file: a.wav\n  spindle: 100 rpm\n  ignore_width: 2 Hz\n",
                "recording.ignore_width", 4, "needs ignore");
+  expect_error("recording:\n  file: a.wav\n  spindle: 100 rpm\n  tachometer: tacho\n",
+               "recording.tachometer", 4, "channel number");
+  expect_error("recording:\n  file: a.wav\n  channel: 2\n  spindle: 100 rpm\n  tachometer: 2\n",
+               "recording.tachometer", 5, "the signal's own");
+  expect_error("recording:\n  file: a.csv\n  column: ax\n  spindle: 100 rpm\n  tachometer: ax\n",
+               "recording.tachometer", 5, "the signal's own");
+  expect_error("recording:\n  file: a.wav\n  spindle: 100 rpm\n  tachometer_pulses: 2\n",
+               "recording.tachometer_pulses", 4, "needs tachometer");
+  expect_error(
+      "recording:\n  file: a.wav\n  spindle: 100 rpm\n  tachometer: 2\n  tachometer_pulses: 0\n",
+      "recording.tachometer_pulses", 5, "positive integer");
   expect_error(
       "recording: {file: a.wav, spindle: 100 rpm}\nrecordings: [{file: b.wav, "
       "spindle: 100 rpm}]\n",

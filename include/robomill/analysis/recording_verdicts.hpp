@@ -16,6 +16,7 @@
 
 #include "robomill/analysis/stability_diagram.hpp"
 #include "robomill/io/recording.hpp"
+#include "robomill/io/tachometer.hpp"
 #include "robomill/job/job.hpp"
 #include "robomill/monitoring/recording_analysis.hpp"
 
@@ -40,6 +41,8 @@ struct RecordingVerdict {
   /// (not recordings:); nullopt when neither.
   std::optional<double> depth_m;
   monitoring::RecordingAnalysis analysis;  ///< the detector's verdict, spectra and energies
+  /// The pulse channel's count when the recording names one (tachometer:).
+  std::optional<io::TachometerReading> tachometer;
   /// The spindle speeds the advice may recommend: listen.spindle_range, else
   /// advise.speeds, else stability.speeds, else half to one and a half times
   /// the commanded speed.

@@ -18,10 +18,11 @@
 // ".sample_rate", ".start" or ".duration"; its line is RecordingSpec::line.
 //
 // Conventions (src/io/recording_*.cpp):
-//  * A time base in the file (a time column, a UFF abscissa) must be uniform
-//    within 0.1 % of the interval; a `sample_rate` given as well must agree
-//    with it within 0.1 %. MAT: the rate from the whole time column; CSV:
-//    from the first two rows, every later interval checked as it streams.
+//  * A time column (MAT, CSV) gives the rate from the whole column,
+//    (last − first) / (rows − 1); every step must lie within half an
+//    interval of it (rounding and jitter pass, a dropped block is refused
+//    at its line). A UFF record gives its abscissa increment. A
+//    `sample_rate` given as well must agree with the file's within 0.1 %.
 //  * info().start_s is the file's time of the first delivered sample (a time
 //    column's value; start_s / rate for a WAV). `start` skips from the first
 //    sample; a `duration` past the end stops at the end.
@@ -60,6 +61,11 @@ struct RecordingSpec {
   double start_s = 0.0;     ///< skip this much of the recording
   double duration_s = 0.0;  ///< analyse this much (0: to the end)
   std::vector<monitoring::IgnoredLine> ignore;
+  /// A pulse channel beside the signal (`tachometer:`, io/tachometer.hpp):
+  /// the channel number (sound, uff) or the column (mat: 1-based number,
+  /// csv: name); empty: none. `tachometer_pulses` per revolution.
+  std::string tachometer;
+  int tachometer_pulses = 1;
   /// Per recording (`recordings:` entries; else process.spindle / ap).
   std::optional<double> spindle_rad_s;
   std::optional<double> depth_m;

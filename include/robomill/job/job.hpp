@@ -368,7 +368,7 @@ struct RobotPathJobSettings {
 struct ListenSettings {
   std::optional<int> teeth;  ///< `teeth`: else tool.teeth (1 for a single insert)
   /// The detector's settings: spindle_search_fraction (`spindle_search`),
-  /// chatter_energy_threshold (`threshold`), detect_mains (`mains`: auto or
+  /// chatter_line_threshold (`threshold`), detect_mains (`mains`: auto or
   /// off), detect_steady_lines (`steady_lines`), band_low_hz and band_high_hz
   /// (`band`: [low, high]; 0: automatic) and segment_s (`segment`; 0:
   /// automatic). The rest (the commanded speed, the teeth, the recording's
