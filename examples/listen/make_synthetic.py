@@ -9,8 +9,10 @@ or an accelerometer on a real cell would deliver it.
     /usr/bin/python3 examples/listen/make_synthetic.py build/robomill examples/listen
 
 writes displacement_stable.wav, displacement_chatter.wav, sound_chatter.wav,
-force_chatter.csv, velocity_stable.csv and truth.json (the limit, the depths,
-simulate's verdicts and chatter frequencies) into the folder. Standard library only; the noise is seeded, so the files are
+force_chatter.csv, velocity_stable.csv, displacement_stable_tachometer.wav
+(the stable displacement beside a once-per-revolution pulse channel) and
+truth.json (the limit, the depths, simulate's verdicts and chatter
+frequencies) into the folder. Standard library only; the noise is seeded, so the files are
 reproducible.
 """
 
@@ -100,6 +102,24 @@ def write_files(out, signals, truth):
             f.write(f"{v:.6g}\n")
 
 
+def write_tachometer_example(out):
+    """displacement_stable_tachometer.wav: displacement_stable.wav's samples
+    on channel 1 and a once-per-revolution pulse train on channel 2 (a
+    tachometer's: 15 % duty, half full scale, its rising edge at a phase
+    nobody chose), for examples/listen/tachometer_wav.yaml."""
+    with wave.open(os.path.join(out, "displacement_stable.wav"), "rb") as r:
+        rate, frames = r.getframerate(), r.readframes(r.getnframes())
+    samples = struct.unpack(f"<{len(frames) // 2}h", frames)
+    revolution_s = 60.0 / SPINDLE_RPM
+    pulses = [16384 if ((i / rate + 0.000731) / revolution_s) % 1.0 < 0.15 else 0
+              for i in range(len(samples))]
+    with wave.open(os.path.join(out, "displacement_stable_tachometer.wav"), "wb") as w:
+        w.setnchannels(2)
+        w.setsampwidth(2)
+        w.setframerate(rate)
+        w.writeframes(b"".join(struct.pack("<hh", a, b) for a, b in zip(samples, pulses)))
+
+
 def main():
     if len(sys.argv) != 3:
         sys.exit("usage: make_synthetic.py ROBOMILL OUTDIR")
@@ -147,6 +167,7 @@ def main():
                                    "simulate_chatter_freq_hz": summary["chatter_freq_hz"],
                                    "sample_rate_hz": rate, "samples": len(t)}
         write_files(out, signals, truth)
+        write_tachometer_example(out)
         with open(os.path.join(out, "truth.json"), "w") as f:
             json.dump(truth, f, indent=2)
             f.write("\n")

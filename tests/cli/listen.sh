@@ -39,6 +39,13 @@ check_example benchmark_displacement_wav.yaml false   # the first recording: sta
 check_example benchmark_sound_wav.yaml true
 check_example benchmark_force_csv.yaml true
 check_example benchmark_velocity_csv.yaml false
+# A tachometer channel: the job sheet's 13 500 rpm is 11 % off the spindle's
+# 12 000, beyond the comb search; the pulses give the speed, and it is stable.
+check_example tachometer_wav.yaml false
+grep -q '"spindle_source": "tachometer"' "$WORK/ex_tachometer_wav/summary.json" \
+  || fail "tachometer: the speed is not the tachometer's"
+grep -q '"spindle_rpm_measured": 12000\.0' "$WORK/ex_tachometer_wav/summary.json" \
+  || fail "tachometer: $(grep spindle_rpm_measured "$WORK/ex_tachometer_wav/summary.json" | head -1)"
 grep -q '"recommended_spindle_rpm": \[$' "$WORK/ex_benchmark_sound_wav/summary.json" \
   || fail "sound: no recommended speeds"
 [ -s "$WORK/ex_benchmark_sound_wav/report.html" ] && fail "--quiet wrote report.html"
