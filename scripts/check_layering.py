@@ -38,7 +38,7 @@ MODULES = [
     ("planning", "workpiece placement, pose optimization, cutting advice"),
     ("robot_path", "the robot along the program: postures, margins, feeds, compensation"),
     ("atlas", "the workspace atlas and its result store"),
-    ("learning", "likelihoods, the sampler, the next test (reserved)"),
+    ("learning", "likelihoods of test cuts, the tempered SMC sampler, expected information"),
     ("io", "file formats: programs, FRFs, recordings, CSV, summaries"),
     ("job", "the Job description, its schema, units, YAML parsing, --set"),
     ("analysis", "job-level analyses: one typed entry point per question"),

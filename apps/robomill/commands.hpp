@@ -67,6 +67,7 @@ int run_job_command(const JobCommandOptions& options, const std::string& command
 
 int run_forces(const JobCommandOptions& options);
 int run_listen(const JobCommandOptions& options);
+int run_learn(const JobCommandOptions& options);
 int run_stability(const JobCommandOptions& options);
 int run_fit_modes(const JobCommandOptions& options);
 int run_robot(const JobCommandOptions& options);

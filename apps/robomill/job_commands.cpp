@@ -80,6 +80,12 @@ int run_listen(const JobCommandOptions& options) {
   });
 }
 
+int run_learn(const JobCommandOptions& options) {
+  return run_job_command(options, "learn", [&](const job::Job& job) {
+    return commands::compute_learn(job, options.threads);
+  });
+}
+
 int run_optimize(const JobCommandOptions& options) {
   return run_job_command(options, "optimize", [&](const job::Job& job) {
     return commands::compute_optimize(job, options.threads);

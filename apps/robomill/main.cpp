@@ -57,6 +57,7 @@ struct Commands {
   robomill::app::JobCommandOptions surface_options;
   robomill::app::JobCommandOptions toolpath_options;
   robomill::app::JobCommandOptions listen_options;
+  robomill::app::JobCommandOptions learn_options;
   robomill::app::JobCommandOptions advise_options;
   robomill::app::IdentifyOptions identify_options;
   robomill::app::IdentifyStiffnessOptions stiffness_options;
@@ -75,6 +76,7 @@ struct Commands {
   CLI::App* surface_command = nullptr;
   CLI::App* toolpath_command = nullptr;
   CLI::App* listen_command = nullptr;
+  CLI::App* learn_command = nullptr;
   CLI::App* advise = nullptr;
   CLI::App* identify = nullptr;
   CLI::App* identify_stiffness = nullptr;
@@ -158,6 +160,13 @@ void add_program_commands(CLI::App& app, Commands& c) {
       "and the spindle speeds to try → spectrum.csv, spectrogram.csv, recordings.csv, "
       "summary.json",
       c.listen_options);
+
+  c.learn_command = add_job_command(
+      app, "learn",
+      "Bayesian updating of the uncertain inputs from the test cuts (experiments), the prior "
+      "and posterior lobes, and the next test to run → posterior.csv, lobes_quantiles.csv, "
+      "chatter_probability.csv, experiments.csv, summary.json",
+      c.learn_options);
 
   c.advise = add_job_command(
       app, "advise",
@@ -324,6 +333,8 @@ int run_parsed(const Commands& c, [[maybe_unused]] int rank, int ranks) {
     return robomill::app::run_toolpath(c.toolpath_options);
   if (c.listen_command->parsed())
     return robomill::app::run_listen(c.listen_options);
+  if (c.learn_command->parsed())
+    return robomill::app::run_learn(c.learn_options);
   if (c.identify_stiffness->parsed())
     return robomill::app::run_identify_stiffness(c.stiffness_options);
   if (c.frf->parsed())

@@ -149,6 +149,27 @@ std::vector<RobustPocket> robust_pockets(const std::vector<double>& speeds_rad_s
   return pockets;
 }
 
+void summarize_band(StabilityBand& band, const job::StabilitySettings& settings, int threads) {
+  const std::size_t speeds = band.speeds_rad_s.size();
+  if (band.limits_m.cols() != static_cast<Eigen::Index>(speeds) ||
+      band.limited.cols() != band.limits_m.cols() || band.limited.rows() != band.limits_m.rows() ||
+      band.limits_m.rows() < 1)
+    throw std::invalid_argument("summarize_band: limits and speeds differ in size");
+  band.draw_count = static_cast<int>(band.limits_m.rows());
+  // The map's depths, as stability_diagram's spectral-radius map has them.
+  band.depths_m = stability::linear_range(settings.depth_max_m / settings.depth_count,
+                                          settings.depth_max_m, settings.depth_count);
+  const auto depth_count = static_cast<Eigen::Index>(band.depths_m.size());
+  band.p_chatter.resize(depth_count, static_cast<Eigen::Index>(speeds));
+  band.p_chatter_se.resize(depth_count, static_cast<Eigen::Index>(speeds));
+  band.q05_m.resize(speeds);
+  band.q50_m.resize(speeds);
+  band.q95_m.resize(speeds);
+  core::parallel_for(speeds, threads, [&band](std::size_t s) { band_summarize_speed(band, s); });
+  band_find_extremes(band);
+  band.robust_pockets = robust_pockets(band.speeds_rad_s, band.q05_m);
+}
+
 StabilityBand stability_band(const job::Job& job, const StabilityDiagram& nominal, int threads) {
   if (!job.uncertainty)
     throw InputError("uncertainty", 0, "the band needs an uncertainty: section");
@@ -188,20 +209,7 @@ StabilityBand stability_band(const job::Job& job, const StabilityDiagram& nomina
     }
   }
 
-  // The map's depths, as stability_diagram's spectral-radius map has them.
-  const BandSettings& settings = *job.stability;
-  band.depths_m = stability::linear_range(settings.depth_max_m / settings.depth_count,
-                                          settings.depth_max_m, settings.depth_count);
-  const auto depth_count = static_cast<Eigen::Index>(band.depths_m.size());
-  band.p_chatter.resize(depth_count, speed_count);
-  band.p_chatter_se.resize(depth_count, speed_count);
-  band.q05_m.resize(speeds);
-  band.q50_m.resize(speeds);
-  band.q95_m.resize(speeds);
-  core::parallel_for(speeds, threads, [&band](std::size_t s) { band_summarize_speed(band, s); });
-
-  band_find_extremes(band);
-  band.robust_pockets = robust_pockets(band.speeds_rad_s, band.q05_m);
+  summarize_band(band, *job.stability, threads);
   band.elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return band;
 }

@@ -13,6 +13,7 @@
 #include <iostream>
 #include <numbers>
 
+#include "band_outputs.hpp"
 #include "robomill/analysis/stability_band.hpp"
 #include "robomill/analysis/stability_diagram.hpp"
 #include "robomill/commands/commands.hpp"
@@ -123,20 +124,6 @@ nlohmann::json deformation_summary(const analysis::StabilityDiagram& diagram) {
 /// speed, then the next speed, as map.csv) and summary.json's
 /// "uncertainty".
 void add_stability_band(CommandResult& result, const analysis::StabilityBand& band) {
-  io::CsvTable lobes({"spindle_rpm", "depth_limit_q05_mm", "depth_limit_q50_mm",
-                      "depth_limit_q95_mm", "depth_limit_nominal_mm"});
-  io::CsvTable probability({"spindle_rpm", "depth_mm", "p_chatter", "p_chatter_se"});
-  for (std::size_t s = 0; s < band.speeds_rad_s.size(); ++s) {
-    const double rpm = band.speeds_rad_s[s] * kRpmPerRadS;
-    lobes.add_row({rpm, band.q05_m[s].value * 1e3, band.q50_m[s].value * 1e3,
-                   band.q95_m[s].value * 1e3, band.nominal_limit_m[s] * 1e3});
-    for (std::size_t d = 0; d < band.depths_m.size(); ++d) {
-      const auto row = static_cast<Eigen::Index>(d);
-      const auto column = static_cast<Eigen::Index>(s);
-      probability.add_row({rpm, band.depths_m[d] * 1e3, band.p_chatter(row, column),
-                           band.p_chatter_se(row, column)});
-    }
-  }
   nlohmann::json pockets = nlohmann::json::array();
   for (const analysis::RobustPocket& p : band.robust_pockets) {
     pockets.push_back({{"spindle_rpm", p.spindle_rad_s * kRpmPerRadS},
@@ -152,8 +139,8 @@ void add_stability_band(CommandResult& result, const analysis::StabilityBand& ba
       {"depth_limit_q95_max_spindle_rpm", band.q95_max_spindle_rad_s * kRpmPerRadS},
       {"robust_pockets", pockets},
       {"elapsed_s", band.elapsed_s}};
-  result.tables.emplace_back("lobes_quantiles", std::move(lobes));
-  result.tables.emplace_back("chatter_probability", std::move(probability));
+  result.tables.emplace_back("lobes_quantiles", band_quantiles_table(band));
+  result.tables.emplace_back("chatter_probability", band_probability_table(band));
   result.message += fmt::format(
       "  uncertainty: {} draws ({}) in {:.3f} s; 5 % lobe from {:.3f} mm (at {:.0f} "
       "rpm), 95 % lobe up to {:.3f} mm\n",
@@ -168,6 +155,30 @@ void add_stability_band(CommandResult& result, const analysis::StabilityBand& ba
 }
 
 }  // namespace
+
+io::CsvTable band_quantiles_table(const analysis::StabilityBand& band) {
+  io::CsvTable lobes({"spindle_rpm", "depth_limit_q05_mm", "depth_limit_q50_mm",
+                      "depth_limit_q95_mm", "depth_limit_nominal_mm"});
+  for (std::size_t s = 0; s < band.speeds_rad_s.size(); ++s) {
+    lobes.add_row({band.speeds_rad_s[s] * kRpmPerRadS, band.q05_m[s].value * 1e3,
+                   band.q50_m[s].value * 1e3, band.q95_m[s].value * 1e3,
+                   band.nominal_limit_m[s] * 1e3});
+  }
+  return lobes;
+}
+
+io::CsvTable band_probability_table(const analysis::StabilityBand& band) {
+  io::CsvTable probability({"spindle_rpm", "depth_mm", "p_chatter", "p_chatter_se"});
+  for (std::size_t s = 0; s < band.speeds_rad_s.size(); ++s) {
+    for (std::size_t d = 0; d < band.depths_m.size(); ++d) {
+      const auto row = static_cast<Eigen::Index>(d);
+      const auto column = static_cast<Eigen::Index>(s);
+      probability.add_row({band.speeds_rad_s[s] * kRpmPerRadS, band.depths_m[d] * 1e3,
+                           band.p_chatter(row, column), band.p_chatter_se(row, column)});
+    }
+  }
+  return probability;
+}
 
 CommandResult compute_stability(const job::Job& job, int threads) {
   const analysis::StabilityDiagram diagram = analysis::stability_diagram(job, threads);

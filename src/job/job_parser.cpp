@@ -29,6 +29,7 @@
 #include "job_parser_cutting.hpp"
 #include "job_parser_deflection.hpp"
 #include "job_parser_dynamics.hpp"
+#include "job_parser_learning.hpp"
 #include "job_parser_monitoring.hpp"
 #include "job_parser_planning.hpp"
 #include "job_parser_robot.hpp"
@@ -70,10 +71,15 @@ std::vector<Experiment> read_experiments(SectionReader& root) {
   for (SectionReader& e : *items) {
     e.allow_schema("experiments[]");
     Experiment experiment;
+    experiment.line = e.line();
     experiment.spindle_rad_s =
         e.quantity("spindle", field(dimensions::angular_speed, kRpm, "rpm", kPositive));
     experiment.axial_depth_m = e.quantity("depth", length_mm());
     experiment.chatter = e.boolean("chatter");
+    experiment.chatter_frequency_hz =
+        e.quantity_or("chatter_freq", field(dimensions::frequency, 1.0, "Hz", kPositive), 0.0);
+    if (experiment.chatter_frequency_hz > 0.0 && !experiment.chatter)
+      e.fail("chatter_freq", "is given for a test that did not chatter (chatter: false)");
     e.finish();
     experiments.push_back(experiment);
   }
@@ -178,6 +184,7 @@ Job read_job(const YAML::Node& root_node, const std::filesystem::path& source,
   detail::read_toolpath(root, job);    // program and stock (job_parser_toolpath.cpp)
   detail::read_monitoring(root, job);  // recordings (job_parser_monitoring.cpp)
   detail::read_uncertainty(root, root_node, job);  // issue 33 (job_parser_uncertainty.cpp)
+  detail::read_learn(root, job);                   // issue 35 (job_parser_learning.cpp)
   job.output = read_output(root);
   root.finish();
   return job;

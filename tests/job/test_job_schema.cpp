@@ -196,6 +196,28 @@ uncertainty:
     - {name: krc, path: cutting.Krc, distribution: uniform, min: 250, max: 330}
   correlation: {k_tip: {zeta_x: -0.3}}
 )",
+    // Learning from tests: every key of learn: and a heard chatter frequency.
+    R"(name: kitchen sink 7
+dynamics:
+  modes:
+    - {direction: x, fn: 2060 Hz, zeta: 2.4 %, k: 8.1e6 N/m}
+cutting: {law: linear, Ktc: 855 N/mm^2, Krc: 290 N/mm^2}
+experiments:
+  - {spindle: 5130 rpm, depth: 1.7 mm, chatter: true, chatter_freq: 2113 Hz}
+uncertainty:
+  variables:
+    - {name: k, path: dynamics.modes.0.k, mode: scale, distribution: lognormal, median: 1, sigma: 0.2}
+learn:
+  strategy: information
+  max_risk: 30 %
+  samples: 2000
+  seed: 11
+  verdict_sd: 0.05 mm
+  verdict_relative_sd: 4 %
+  mislabel: 2 %
+  chatter_freq_sd: 15 Hz
+  spread_shrink: 3 %
+)",
 };
 
 TEST(JobSchema, ExamplesAndKitchenSinksReadEveryField) {

@@ -105,6 +105,15 @@ std::vector<RobustPocket> robust_pockets(const std::vector<double>& speeds_rad_s
                                          const std::vector<uncertainty::Estimate>& lobe_m,
                                          int max_count = kMaxRobustPockets);
 
+/// Fills what a band says from its draws' limits: given band.speeds_rad_s,
+/// limits_m and limited (draws × speeds), sets draw_count, the map's depths
+/// (settings.depths values up to settings.depth_max, as the spectral-radius
+/// map's), the quantile lobes, p_chatter and its standard error, the
+/// extremes and the robust pockets. The quantiles of every speed are
+/// computed in parallel on up to `threads` threads. Throws
+/// std::invalid_argument when the sizes disagree or there are no draws.
+void summarize_band(StabilityBand& band, const job::StabilitySettings& settings, int threads = 0);
+
 /// The band of `job` (which has an `uncertainty:` section) around its
 /// `nominal` diagram (stability_diagram(job)): the draws of
 /// draw_job_inputs(job), each draw's primary diagram by

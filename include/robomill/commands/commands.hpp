@@ -69,6 +69,11 @@ CommandResult compute_listen(const job::Job& job, int threads, const Progress& p
 /// "recordings" entries); Python's analyze_signal returns the same keys.
 nlohmann::json listen_recording_json(const analysis::RecordingVerdict& recording);
 
+/// `robomill learn`: the posterior of the job's uncertain inputs given its
+/// experiments, the prior and posterior bands, and the next test to run
+/// (issue 35, docs/learning.md).
+CommandResult compute_learn(const job::Job& job, int threads);
+
 /// `robomill identify-cutting DATA`: the test's setup as typed on the
 /// command line (quantities with units), else from a job's tool and process.
 struct IdentifyCuttingInputs {

@@ -119,6 +119,9 @@ struct Experiment {
   double spindle_rad_s = 0.0;
   double axial_depth_m = 0.0;
   bool chatter = false;
+  /// `chatter_freq`: the chatter line heard (Hz); 0 when not given.
+  double chatter_frequency_hz = 0.0;
+  int line = 0;  ///< the entry's line (for messages)
 };
 
 /// `stability:` section — how `robomill stability` computes the lobes.
@@ -430,6 +433,24 @@ struct UncertaintySettings {
   int posterior_line = 0;    ///< `posterior`'s line
 };
 
+/// `learn:` — how `robomill learn` updates the uncertain inputs from the
+/// experiments and chooses the next test (issue 35; docs/learning.md).
+struct LearnSettings {
+  /// `strategy`: the next test by expected information, by removal rate, or
+  /// information until the boundary's spread stops shrinking (switching).
+  enum class Strategy { information, productivity, switching };
+  Strategy strategy = Strategy::switching;
+  double max_risk = 0.5;              ///< `max_risk`: P(chatter) allowed for the next test
+  int samples = 4000;                 ///< `samples`: posterior samples (SMC particles)
+  std::uint64_t seed = 1;             ///< `seed` (default: uncertainty.seed)
+  double verdict_sd_m = 0.1e-3;       ///< `verdict_sd`: σ_abs of the probit (m)
+  double verdict_relative_sd = 0.05;  ///< `verdict_relative_sd`: σ_rel of the probit
+  double mislabel = 0.01;             ///< `mislabel`: ε, a verdict's chance of being wrong
+  double chatter_freq_sd_hz = 20.0;   ///< `chatter_freq_sd`: σ_f (Hz)
+  double spread_shrink = 0.05;  ///< `spread_shrink`: switching's least relative shrink per test
+  int line = 0;                 ///< the section's line (0: not written, defaults)
+};
+
 /// `--set key.path=value`: replaces (or adds) one field before validation.
 /// The value is read as YAML, so lists and quoted quantities work:
 /// `--set process.ae="2 mm"`, `--set forces.revolutions=3`.
@@ -484,6 +505,7 @@ struct Job {
   bool recordings_listed = false;                  ///< written as `recordings:`
   std::optional<ListenSettings> listen;            ///< `listen:`
   std::optional<UncertaintySettings> uncertainty;  ///< `uncertainty:` (docs/uncertainty.md)
+  std::optional<LearnSettings> learn;              ///< `learn:` (docs/learning.md)
   OutputSettings output;
   /// The YAML text the job was read from and the `--set` overrides it was
   /// read with (set by parse_job and load_job): with more overrides they

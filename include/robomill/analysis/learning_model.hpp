@@ -1,0 +1,101 @@
+#pragma once
+// The job's stability limit as a function of its uncertain inputs, fast
+// enough to be evaluated a few hundred thousand times by the sampler of
+// `robomill learn` (issue 35; docs/learning.md, "The model").
+//
+// `stability` and `advise` make a draw by re-reading the job with the drawn
+// values (analysis/job_draws.hpp: exact for any field, about a millisecond a
+// draw). Learning evaluates the model for every particle at every Metropolis
+// step, so this model sets the fields a variable can vary directly: the
+// linear law's coefficients (cutting.Ktc, Krc, Kac, Kte, Kre, Kae; A0 is
+// linear in the shear coefficients, so the cut is averaged once,
+// stability::MeanCuttingStiffnessBasis) and the modal table's fn, zeta and
+// k (dynamics.modes[i].*: the mode's shape e·ωn/√k). The zero-order limit
+// (stability/zero_order.hpp, Altintas & Budak 1995) is then solved on a
+// chatter-frequency grid placed around the drawn modes. The construction
+// checks, on two prior draws, that these settings give the very modes and
+// coefficients the job re-read with the drawn values gives; a variable on any
+// other field is refused by name.
+//
+// Values are in the variables' own terms: SI for `mode: value`, the factor
+// for `mode: scale` (job::UncertaintySettings).
+
+#include <Eigen/Core>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "robomill/cutting/cutting_law.hpp"
+#include "robomill/job/job.hpp"
+#include "robomill/stability/zero_order.hpp"
+#include "robomill/uncertainty/distribution.hpp"
+
+namespace robomill::analysis {
+
+/// The zero-order stability limit of a job with its uncertain inputs set.
+class LearningModel {
+ public:
+  /// The model of `job` (a tool, a linear cutting law, a process, a modal
+  /// table, a stability section and an uncertainty section whose variables
+  /// all have distributions). Throws InputError naming the section or the
+  /// variable (its line) when the job does not fit.
+  explicit LearningModel(const job::Job& job);
+
+  /// The variables' names and prior distributions, in the job's order.
+  const std::vector<std::string>& names() const noexcept { return names_; }
+  const std::vector<uncertainty::Distribution>& priors() const noexcept { return priors_; }
+  int dimension() const noexcept { return static_cast<int>(names_.size()); }
+
+  /// The variables' values for standard-normal coordinates w (the sampler's):
+  /// x_j = F_j⁻¹(Φ(z_j)), z = L w with L the correlation's Cholesky factor
+  /// (z = w for independent variables).
+  Eigen::VectorXd values_of(const Eigen::VectorXd& w) const;
+
+  /// The job's own values: 1 for a scale variable, the nominal value (SI) otherwise.
+  Eigen::VectorXd nominal_values() const;
+
+  /// The limits at `speeds_rad_s` for values x, written to `out` (same
+  /// size). Returns false, writing nothing, when x gives no structure (a
+  /// damping ratio ≥ 1, a non-positive stiffness or frequency, a negative
+  /// coefficient). Thread-safe.
+  bool limits(const Eigen::VectorXd& x, std::span<const double> speeds_rad_s,
+              std::span<stability::ZeroOrderLimit> out) const;
+
+  int teeth() const noexcept { return teeth_; }
+  /// The deepest limit solved for (m): 1.25 × the deeper of
+  /// stability.depth_max and the deepest experiment; beyond it a limit is
+  /// reported as not limited. No test or candidate is deeper than that
+  /// depth, where such a limit's probit gives chatter a probability of
+  /// at most Φ(−0.2 a_lim/σ) ≤ Φ(−3.9) at the default spreads, far below the
+  /// mislabel chance ε/2 that a limit beyond reach is given instead.
+  double search_depth_m() const noexcept { return search_depth_m_; }
+
+ private:
+  /// A field a variable sets.
+  struct Setter {
+    enum class Field { ktc, krc, kac, kte, kre, kae, fn, zeta, k } field = Field::ktc;
+    int mode = -1;       ///< the modal table's row for fn, zeta, k
+    int variable = 0;    ///< which value sets it
+    double nominal = 0;  ///< the job's value (SI)
+    bool scale = false;  ///< value × nominal, else the value itself
+  };
+  struct Structure {
+    cutting::LinearLaw law;
+    std::vector<job::ModeSpec> modes;
+  };
+  /// The law and modes with the values set; false when they are not physical.
+  bool apply(const Eigen::VectorXd& x, Structure& out) const;
+  void check_against_the_job(const job::Job& job) const;
+
+  std::vector<std::string> names_;
+  std::vector<uncertainty::Distribution> priors_;
+  std::optional<Eigen::MatrixXd> correlation_factor_;
+  std::vector<Setter> setters_;
+  Structure nominal_;
+  stability::MeanCuttingStiffnessBasis basis_;
+  int teeth_ = 0;
+  double search_depth_m_ = 0.0;
+};
+
+}  // namespace robomill::analysis

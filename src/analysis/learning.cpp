@@ -1,0 +1,459 @@
+#include "robomill/analysis/learning.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "robomill/analysis/job_draws.hpp"
+#include "robomill/analysis/learning_model.hpp"
+#include "robomill/core/constants.hpp"
+#include "robomill/core/error.hpp"
+#include "robomill/core/parallel.hpp"
+#include "robomill/job/units.hpp"
+#include "robomill/learning/stability_evidence.hpp"
+#include "robomill/stability/lobes.hpp"
+#include "robomill/uncertainty/sample_statistics.hpp"
+
+namespace robomill::analysis {
+namespace {
+
+using job::LearnSettings;
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+/// Experiments at speeds closer than this (relative) count as one speed when
+/// looking for contradictions.
+constexpr double kSameSpeed = 0.005;
+/// A verdict the prior gives less than this probability is reported.
+constexpr double kSurprise = 1e-3;
+/// The next test is chosen on at most this many posterior samples (evenly
+/// spaced): the expected information's Monte-Carlo error is then about 1 %.
+constexpr Eigen::Index kSelectionSamples = 1000;
+
+LearnSettings settings_of(const job::Job& job) {
+  if (job.learn)
+    return *job.learn;
+  LearnSettings s;
+  s.seed = job.uncertainty ? job.uncertainty->seed : 1;
+  return s;
+}
+
+learning::VerdictModel verdict_model(const LearnSettings& s) {
+  return {s.verdict_sd_m, s.verdict_relative_sd, s.mislabel};
+}
+
+/// The experiments as the likelihood reads them: each one's speed in a list
+/// of distinct speeds, so a sample solves each speed once.
+struct Evidence {
+  std::vector<job::Experiment> tests;
+  std::vector<double> speeds_rad_s;
+  std::vector<std::size_t> speed_of;  ///< per test
+};
+
+Evidence evidence_of(const std::vector<job::Experiment>& tests) {
+  Evidence e{tests, {}, {}};
+  for (const job::Experiment& t : tests) {
+    const auto it = std::find(e.speeds_rad_s.begin(), e.speeds_rad_s.end(), t.spindle_rad_s);
+    e.speed_of.push_back(static_cast<std::size_t>(it - e.speeds_rad_s.begin()));
+    if (it == e.speeds_rad_s.end())
+      e.speeds_rad_s.push_back(t.spindle_rad_s);
+  }
+  return e;
+}
+
+double limit_or_infinity(const stability::ZeroOrderLimit& l) {
+  return l.limited ? l.depth_limit_m : kInfinity;
+}
+
+/// log p(experiments | values x): the verdicts' probits and the chatter
+/// frequencies' normal terms (learning/stability_evidence.hpp), the tests
+/// before `first_added` in `settled`, the others in `added`.
+learning::LogLikelihoodParts log_likelihood(const LearningModel& model, const Evidence& evidence,
+                                            const LearnSettings& settings, const Eigen::VectorXd& x,
+                                            std::size_t first_added) {
+  learning::LogLikelihoodParts parts;
+  if (evidence.tests.empty())
+    return parts;
+  std::vector<stability::ZeroOrderLimit> limits(evidence.speeds_rad_s.size());
+  if (!model.limits(x, evidence.speeds_rad_s, limits))
+    return {-kInfinity, -kInfinity};
+  const learning::VerdictModel verdict = verdict_model(settings);
+  for (std::size_t i = 0; i < evidence.tests.size(); ++i) {
+    const job::Experiment& t = evidence.tests[i];
+    const stability::ZeroOrderLimit& l = limits[evidence.speed_of[i]];
+    double term =
+        learning::log_verdict_likelihood(t.chatter, t.axial_depth_m, limit_or_infinity(l), verdict);
+    if (t.chatter && t.chatter_frequency_hz > 0.0 && l.limited) {
+      const double tooth_hz = model.teeth() * t.spindle_rad_s / (2.0 * std::numbers::pi);
+      term += learning::log_chatter_frequency_likelihood(
+          t.chatter_frequency_hz, l.chatter_frequency_hz, tooth_hz, settings.chatter_freq_sd_hz);
+    }
+    (i < first_added ? parts.settled : parts.added) += term;
+  }
+  return parts;
+}
+
+/// The posterior of every test but the latest, and of all of them: the
+/// first sampled from the prior, then extended to the latest test
+/// (learning::extend_tempered).
+struct Posteriors {
+  learning::SmcPosterior without_latest, all;
+};
+
+Posteriors sample(const LearningModel& model, const Evidence& evidence,
+                  const LearnSettings& settings, int threads) {
+  learning::SmcSettings smc;
+  smc.particles = settings.samples;
+  smc.seed = settings.seed;
+  smc.threads = threads;
+  const std::size_t latest = evidence.tests.empty() ? 0 : evidence.tests.size() - 1;
+  Posteriors p;
+  p.without_latest = learning::sample_tempered(
+      model.dimension(),
+      [&](const Eigen::VectorXd& w) {
+        return log_likelihood(model, evidence, settings, model.values_of(w), latest).settled;
+      },
+      smc);
+  if (evidence.tests.empty()) {
+    p.all = p.without_latest;
+    return p;
+  }
+  p.all = learning::extend_tempered(
+      p.without_latest,
+      [&](const Eigen::VectorXd& w) {
+        return log_likelihood(model, evidence, settings, model.values_of(w), latest);
+      },
+      smc);
+  return p;
+}
+
+Eigen::MatrixXd values_of(const LearningModel& model, const Eigen::MatrixXd& w) {
+  Eigen::MatrixXd x(w.rows(), w.cols());
+  for (Eigen::Index i = 0; i < w.rows(); ++i)
+    x.row(i) = model.values_of(w.row(i).transpose()).transpose();
+  return x;
+}
+
+/// The band of `values` (samples × variables) at `speeds`: every sample's
+/// limits, then stability's summary (quantile lobes, P(chatter) map).
+StabilityBand band_of(const LearningModel& model, const job::Job& job,
+                      const Eigen::MatrixXd& values, const std::string& source,
+                      const std::vector<double>& speeds, int threads) {
+  StabilityBand band;
+  band.draws = {model.names(), values, source};
+  band.speeds_rad_s = speeds;
+  const auto n = values.rows();
+  const auto s_count = static_cast<Eigen::Index>(speeds.size());
+  band.limits_m.resize(n, s_count);
+  band.limited.resize(n, s_count);
+  std::vector<char> refused(static_cast<std::size_t>(n), 0);
+  core::parallel_blocks(
+      static_cast<std::size_t>(n), threads, [&](std::size_t begin, std::size_t end) {
+        std::vector<stability::ZeroOrderLimit> limits(speeds.size());
+        for (std::size_t i = begin; i < end; ++i) {
+          const auto row = static_cast<Eigen::Index>(i);
+          if (!model.limits(values.row(row).transpose(), speeds, limits)) {
+            refused[i] = 1;
+            continue;
+          }
+          for (Eigen::Index s = 0; s < s_count; ++s) {
+            // As the stability band: limited within depth_max, else depth_max.
+            const auto& l = limits[static_cast<std::size_t>(s)];
+            const bool limited = l.limited && l.depth_limit_m <= job.stability->depth_max_m;
+            band.limited(row, s) = limited;
+            band.limits_m(row, s) = limited ? l.depth_limit_m : job.stability->depth_max_m;
+          }
+        }
+      });
+  const auto first = std::find(refused.begin(), refused.end(), 1);
+  if (first != refused.end()) {
+    const auto i = static_cast<Eigen::Index>(first - refused.begin());
+    std::string text;
+    for (int j = 0; j < model.dimension(); ++j)
+      text += fmt::format("{}{} = {:.6g}", j ? ", " : "",
+                          model.names()[static_cast<std::size_t>(j)], values(i, j));
+    throw InputError("uncertainty", job.uncertainty->line,
+                     fmt::format("{} sample {} ({}) gives no structure (a damping ratio outside "
+                                 "(0, 1), a non-positive stiffness or frequency, a negative "
+                                 "coefficient): keep the priors inside (lognormal, "
+                                 "truncated_normal)",
+                                 source, i, text));
+  }
+  std::vector<stability::ZeroOrderLimit> nominal(speeds.size());
+  model.limits(model.nominal_values(), speeds, nominal);
+  for (const auto& l : nominal)
+    band.nominal_limit_m.push_back(
+        std::min(l.limited ? l.depth_limit_m : kInfinity, job.stability->depth_max_m));
+  summarize_band(band, *job.stability, threads);
+  return band;
+}
+
+double mean_spread_m(const StabilityBand& band) {
+  double sum = 0.0;
+  for (std::size_t s = 0; s < band.speeds_rad_s.size(); ++s)
+    sum += band.q95_m[s].value - band.q05_m[s].value;
+  return band.speeds_rad_s.empty() ? 0.0 : sum / static_cast<double>(band.speeds_rad_s.size());
+}
+
+VariableSummary prior_summary(const uncertainty::Distribution& d) {
+  return {uncertainty::mean(d), uncertainty::standard_deviation(d), uncertainty::quantile(d, 0.05),
+          uncertainty::quantile(d, 0.5), uncertainty::quantile(d, 0.95)};
+}
+
+VariableSummary sample_summary(const Eigen::VectorXd& column) {
+  const std::span<const double> v(column.data(), static_cast<std::size_t>(column.size()));
+  return {uncertainty::sample_mean(v).value, uncertainty::sample_standard_deviation(v),
+          uncertainty::empirical_quantile(v, 0.05).value,
+          uncertainty::empirical_quantile(v, 0.5).value,
+          uncertainty::empirical_quantile(v, 0.95).value};
+}
+
+Eigen::MatrixXd correlation_of(const Eigen::MatrixXd& values) {
+  const Eigen::MatrixXd centred = values.rowwise() - values.colwise().mean();
+  Eigen::MatrixXd c = centred.transpose() * centred;
+  const Eigen::VectorXd sd = c.diagonal().cwiseSqrt();
+  for (Eigen::Index i = 0; i < c.rows(); ++i) {
+    for (Eigen::Index j = 0; j < c.cols(); ++j)
+      c(i, j) = sd(i) > 0.0 && sd(j) > 0.0 ? c(i, j) / (sd(i) * sd(j)) : (i == j ? 1.0 : 0.0);
+  }
+  return c;
+}
+
+std::string describe_test(const job::Experiment& t, std::size_t index) {
+  return fmt::format("experiments[{}] (line {}: {:.0f} rpm, {:.3g} mm, {})", index, t.line,
+                     t.spindle_rad_s * kRpmPerRadS, t.axial_depth_m * 1e3,
+                     t.chatter ? "chatter" : "stable");
+}
+
+/// Pairs of tests at one speed where the deeper one was stable and the
+/// shallower one chattered.
+void warn_contradictions(const std::vector<job::Experiment>& tests,
+                         std::vector<std::string>& warnings) {
+  for (std::size_t i = 0; i < tests.size(); ++i) {
+    for (std::size_t j = 0; j < tests.size(); ++j) {
+      const job::Experiment &stable = tests[i], &chatter = tests[j];
+      if (stable.chatter || !chatter.chatter || stable.axial_depth_m <= chatter.axial_depth_m)
+        continue;
+      if (std::abs(stable.spindle_rad_s - chatter.spindle_rad_s) >
+          kSameSpeed * std::max(stable.spindle_rad_s, chatter.spindle_rad_s))
+        continue;
+      warnings.push_back(fmt::format(
+          "{} and {} contradict each other: at one speed the deeper cut was stable and the "
+          "shallower one chattered; the posterior weighs one of them as mislabelled "
+          "(learn.mislabel)",
+          describe_test(stable, i), describe_test(chatter, j)));
+    }
+  }
+}
+
+/// The predicted P(chatter) of a test at (speed column, depth) over the
+/// selection samples, and its expected information.
+struct Candidate {
+  double p_chatter = 0.0, information_bits = 0.0;
+};
+
+Candidate candidate_at(const StabilityBand& band, Eigen::Index speed, double depth_m,
+                       const learning::VerdictModel& verdict, Eigen::Index stride,
+                       std::vector<double>& scratch) {
+  scratch.clear();
+  for (Eigen::Index i = 0; i < band.limits_m.rows(); i += stride) {
+    const double limit = band.limited(i, speed) ? band.limits_m(i, speed) : kInfinity;
+    scratch.push_back(learning::chatter_probability(depth_m, limit, verdict));
+  }
+  double mean = 0.0;
+  for (const double p : scratch)
+    mean += p;
+  return {mean / static_cast<double>(scratch.size()), learning::expected_information_bits(scratch)};
+}
+
+/// The next test by `strategy` ("information" or "productivity") among the
+/// band's speeds × depths with P(chatter) ≤ max_risk.
+NextTest choose_test(const job::Job& job, const StabilityBand& band, const LearnSettings& settings,
+                     const std::string& strategy, int threads) {
+  const learning::VerdictModel verdict = verdict_model(settings);
+  const Eigen::Index stride = std::max<Eigen::Index>(1, band.limits_m.rows() / kSelectionSamples);
+  const cutting::MillingProcess& process = *job.process;
+  const std::size_t speeds = band.speeds_rad_s.size();
+  std::vector<NextTest> best(speeds);
+  core::parallel_for(speeds, threads, [&](std::size_t s) {
+    std::vector<double> scratch;
+    for (const double depth : band.depths_m) {
+      const Candidate c =
+          candidate_at(band, static_cast<Eigen::Index>(s), depth, verdict, stride, scratch);
+      if (c.p_chatter > settings.max_risk)
+        continue;
+      const double rate = depth * process.radial_depth_m * process.feed_per_tooth_m *
+                          job.tool->teeth * band.speeds_rad_s[s] / (2.0 * std::numbers::pi);
+      NextTest t{true,        strategy,           "",  band.speeds_rad_s[s], depth,
+                 c.p_chatter, c.information_bits, rate};
+      const bool better = !best[s].found || (strategy == "information"
+                                                 ? t.information_bits > best[s].information_bits
+                                                 : t.removal_rate_m3_s > best[s].removal_rate_m3_s);
+      if (better)
+        best[s] = t;
+    }
+  });
+  NextTest chosen;
+  chosen.strategy = strategy;
+  for (const NextTest& t : best) {
+    if (!t.found)
+      continue;
+    const bool better = !chosen.found || (strategy == "information"
+                                              ? t.information_bits > chosen.information_bits
+                                              : t.removal_rate_m3_s > chosen.removal_rate_m3_s);
+    if (better)
+      chosen = t;
+  }
+  if (!chosen.found)
+    chosen.reason = fmt::format(
+        "no candidate in stability.speeds × depths up to stability.depth_max has P(chatter) ≤ "
+        "{:.3g} (learn.max_risk)",
+        settings.max_risk);
+  return chosen;
+}
+
+/// The expected information (bits) the latest test had under the posterior
+/// without it, on at most kSelectionSamples of its samples.
+double latest_test_information(const LearningModel& model, const Eigen::MatrixXd& values,
+                               const job::Experiment& test, const learning::VerdictModel& verdict) {
+  const Eigen::Index stride = std::max<Eigen::Index>(1, values.rows() / kSelectionSamples);
+  const std::vector<double> speed = {test.spindle_rad_s};
+  std::vector<stability::ZeroOrderLimit> limit(1);
+  std::vector<double> p;
+  for (Eigen::Index i = 0; i < values.rows(); i += stride) {
+    if (model.limits(values.row(i).transpose(), speed, limit))
+      p.push_back(
+          learning::chatter_probability(test.axial_depth_m, limit_or_infinity(limit[0]), verdict));
+  }
+  return learning::expected_information_bits(p);
+}
+
+/// The switching strategy's choice (issue 35: information until the
+/// boundary's spread stops shrinking, then productivity), stateless: the
+/// posterior without the latest test against the one with it. Only a test
+/// that could teach (≥ kTeachingBits expected before it was run) is judged
+/// by its shrink; after one that could not (a productivity cut well inside
+/// the stable region), information again, so the choice never stays on
+/// productivity while the boundary could still be learned. Sets `strategy`
+/// and the result's spread without the latest test; returns the reason.
+std::string switching_choice(const LearningModel& model, const job::Job& job,
+                             const Posteriors& posteriors, const std::vector<double>& speeds,
+                             const LearnSettings& settings, int threads, LearningResult& result,
+                             std::string& strategy) {
+  constexpr double kTeachingBits = 0.1;
+  if (job.experiments.size() < 2)
+    return "fewer than two tests: information";
+  const Eigen::MatrixXd before = values_of(model, posteriors.without_latest.particles);
+  const StabilityBand band =
+      band_of(model, job, before, "posterior without the latest test", speeds, threads);
+  result.spread_before_last_m = mean_spread_m(band);
+  const double shrink = 1.0 - result.posterior_spread_m / result.spread_before_last_m;
+  const double taught =
+      latest_test_information(model, before, job.experiments.back(), verdict_model(settings));
+  if (taught < kTeachingBits)
+    return fmt::format(
+        "the latest test could teach {:.2f} bits (< {:.1f}: a cut inside the known region): "
+        "information",
+        taught, kTeachingBits);
+  const bool still_learning = shrink >= settings.spread_shrink;
+  if (!still_learning)
+    strategy = "productivity";
+  return fmt::format(
+      "the boundary's spread shrank by {:.1f} % with the latest test ({} {:.1f} %, "
+      "learn.spread_shrink): {}",
+      100.0 * shrink, still_learning ? "≥" : "<", 100.0 * settings.spread_shrink, strategy);
+}
+
+}  // namespace
+
+LearningResult learn(const job::Job& job, int threads) {
+  const auto start = std::chrono::steady_clock::now();
+  const LearningModel model(job);
+  const LearnSettings settings = settings_of(job);
+  LearningResult result;
+  result.names = model.names();
+  for (const job::UncertaintySettings::Variable& v : job.uncertainty->variables)
+    result.units.push_back(v.mode == job::UncertaintySettings::Mode::scale
+                               ? std::string("factor")
+                               : job::si_unit(v.targets.front().dimension));
+
+  const Evidence evidence = evidence_of(job.experiments);
+  const Posteriors posteriors = sample(model, evidence, settings, threads);
+  result.sampler = posteriors.all;
+  result.posterior_values = values_of(model, result.sampler.particles);
+
+  const job::StabilitySettings& s = *job.stability;
+  const std::vector<double> speeds =
+      stability::linear_range(s.speed_from_rad_s, s.speed_to_rad_s, s.speed_count);
+  const JobDraws prior_draws = draw_job_inputs(job);
+  result.prior_band = band_of(model, job, prior_draws.values, prior_draws.source, speeds, threads);
+  result.posterior_band =
+      band_of(model, job, result.posterior_values, "posterior", speeds, threads);
+  result.prior_spread_m = mean_spread_m(result.prior_band);
+  result.posterior_spread_m = mean_spread_m(result.posterior_band);
+  result.spread_before_last_m = std::numeric_limits<double>::quiet_NaN();
+
+  for (int j = 0; j < model.dimension(); ++j) {
+    result.prior.push_back(prior_summary(model.priors()[static_cast<std::size_t>(j)]));
+    result.posterior.push_back(sample_summary(result.posterior_values.col(j)));
+  }
+  result.posterior_correlation = correlation_of(result.posterior_values);
+
+  // Every test's predicted verdict, before and after; the chatter frequency predicted.
+  const learning::VerdictModel verdict = verdict_model(settings);
+  const auto predictive = [&](const Eigen::MatrixXd& values, const job::Experiment& t,
+                              std::vector<double>* family_hz) {
+    const Eigen::Index stride = std::max<Eigen::Index>(1, values.rows() / kSelectionSamples);
+    std::vector<stability::ZeroOrderLimit> limit(1);
+    const std::vector<double> speed = {t.spindle_rad_s};
+    double sum = 0.0;
+    int count = 0;
+    for (Eigen::Index i = 0; i < values.rows(); i += stride, ++count) {
+      if (!model.limits(values.row(i).transpose(), speed, limit))
+        continue;
+      sum += learning::chatter_probability(t.axial_depth_m, limit_or_infinity(limit[0]), verdict);
+      if (family_hz && limit[0].limited)
+        family_hz->push_back(learning::nearest_chatter_family_hz(
+            t.chatter_frequency_hz, limit[0].chatter_frequency_hz,
+            model.teeth() * t.spindle_rad_s / (2.0 * std::numbers::pi)));
+    }
+    return count ? sum / count : 0.0;
+  };
+  for (std::size_t i = 0; i < job.experiments.size(); ++i) {
+    const job::Experiment& t = job.experiments[i];
+    LearnedExperiment e{
+        i, t.line, t.spindle_rad_s, t.axial_depth_m, t.chatter, t.chatter_frequency_hz};
+    e.p_chatter_prior = predictive(prior_draws.values, t, nullptr);
+    std::vector<double> family;
+    e.p_chatter_posterior =
+        predictive(result.posterior_values, t, t.chatter_frequency_hz > 0.0 ? &family : nullptr);
+    if (!family.empty())
+      e.predicted_chatter_frequency_hz = uncertainty::empirical_quantile(family, 0.5).value;
+    const double p_verdict = t.chatter ? e.p_chatter_prior : 1.0 - e.p_chatter_prior;
+    if (p_verdict < kSurprise)
+      result.warnings.push_back(fmt::format(
+          "{}: the prior gives this verdict a probability of {:.2g}: the variables can hardly "
+          "reach it (check the test, or widen the priors)",
+          describe_test(t, i), p_verdict));
+    result.experiments.push_back(e);
+  }
+  warn_contradictions(job.experiments, result.warnings);
+
+  // The next test.
+  std::string strategy =
+      settings.strategy == LearnSettings::Strategy::productivity ? "productivity" : "information";
+  std::string reason;
+  if (settings.strategy == LearnSettings::Strategy::switching)
+    reason = switching_choice(model, job, posteriors, speeds, settings, threads, result, strategy);
+  result.next = choose_test(job, result.posterior_band, settings, strategy, threads);
+  if (result.next.reason.empty())
+    result.next.reason = reason;
+  result.elapsed_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+}  // namespace robomill::analysis

@@ -1,0 +1,246 @@
+#include "robomill/analysis/learning_model.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include "robomill/analysis/job_draws.hpp"
+#include "robomill/core/error.hpp"
+#include "robomill/tool/tool.hpp"
+#include "robomill/uncertainty/draws.hpp"
+
+namespace robomill::analysis {
+namespace {
+
+using Settings = job::UncertaintySettings;
+
+/// The smallest and largest u a quantile is asked for (as uncertainty::draw).
+constexpr double kUnitMin = 0x1.0p-53, kUnitMax = 1.0 - 0x1.0p-53;
+
+/// The modal table's row and field of "dynamics.modes[3].fn" (or
+/// "dynamics.modes.3.fn"); false for any other path.
+bool parse_mode_path(const std::string& path, int& row, std::string& field) {
+  constexpr std::string_view prefix = "dynamics.modes";
+  if (!path.starts_with(prefix))
+    return false;
+  std::string rest = path.substr(prefix.size());
+  if (rest.empty() || (rest[0] != '[' && rest[0] != '.'))
+    return false;
+  rest.erase(0, 1);
+  std::size_t digits = 0;
+  while (digits < rest.size() && std::isdigit(static_cast<unsigned char>(rest[digits])))
+    ++digits;
+  if (digits == 0)
+    return false;
+  row = std::stoi(rest.substr(0, digits));
+  rest.erase(0, digits);
+  if (!rest.empty() && rest[0] == ']')
+    rest.erase(0, 1);
+  if (rest.empty() || rest[0] != '.')
+    return false;
+  field = rest.substr(1);
+  return true;
+}
+
+}  // namespace
+
+LearningModel::LearningModel(const job::Job& job) {
+  job::require(job, {job::Section::tool, job::Section::cutting, job::Section::process,
+                     job::Section::stability});
+  if (!job.uncertainty)
+    throw InputError("uncertainty", 0,
+                     "learn updates the job's uncertain inputs: give an uncertainty: section "
+                     "with the variables and their priors (docs/learning.md)");
+  const Settings& u = *job.uncertainty;
+  if (!u.posterior.empty())
+    throw InputError("uncertainty.posterior", u.posterior_line,
+                     "learn starts from the prior and every experiment: remove "
+                     "uncertainty.posterior (give the variables' distributions)");
+  if (job.dynamics_source != job::Job::DynamicsSource::table || job.modes.empty())
+    throw InputError("dynamics", 0,
+                     "learn works on the modal table (dynamics.modes) in this version; "
+                     "measured FRFs, fitted modes and a robot's modes are not yet learned");
+  const auto* law = std::get_if<cutting::LinearLaw>(&*job.cutting);
+  if (!law)
+    throw InputError("cutting.law", 0, "learn needs the linear law (law: linear)");
+  nominal_ = {*law, job.modes};
+  teeth_ = job.tool->teeth;
+  double deepest = job.stability->depth_max_m;
+  for (const job::Experiment& e : job.experiments)
+    deepest = std::max(deepest, e.axial_depth_m);
+  search_depth_m_ = 1.25 * deepest;
+  basis_ =
+      stability::mean_cutting_stiffness_basis(tool::Tool(*job.tool), *job.cutting, *job.process);
+
+  using F = Setter::Field;
+  const std::vector<std::pair<std::string, F>> coefficients = {
+      {"cutting.Ktc", F::ktc}, {"cutting.Krc", F::krc}, {"cutting.Kac", F::kac},
+      {"cutting.Kte", F::kte}, {"cutting.Kre", F::kre}, {"cutting.Kae", F::kae}};
+  for (std::size_t j = 0; j < u.variables.size(); ++j) {
+    const Settings::Variable& v = u.variables[j];
+    names_.push_back(v.name);
+    priors_.emplace_back(
+        std::visit([](const auto& p) { return uncertainty::Distribution(p); }, *v.distribution));
+    for (const Settings::Target& t : v.targets) {
+      Setter setter;
+      setter.variable = static_cast<int>(j);
+      setter.nominal = t.nominal_si;
+      setter.scale = v.mode == Settings::Mode::scale;
+      const auto coefficient = std::find_if(coefficients.begin(), coefficients.end(),
+                                            [&](const auto& c) { return c.first == t.path; });
+      int row = -1;
+      std::string field;
+      if (coefficient != coefficients.end()) {
+        setter.field = coefficient->second;
+      } else if (parse_mode_path(t.path, row, field) && row < static_cast<int>(job.modes.size()) &&
+                 (field == "fn" || field == "zeta" || field == "k")) {
+        setter.mode = row;
+        setter.field = field == "fn" ? F::fn : field == "zeta" ? F::zeta : F::k;
+      } else {
+        throw InputError(fmt::format("uncertainty.variables[{}].path", j), t.line,
+                         fmt::format("'{}' (variable '{}'): learn varies the linear law's "
+                                     "coefficients (cutting.Ktc, Krc, Kac, Kte, Kre, Kae) and the "
+                                     "modal table's fn, zeta and k (dynamics.modes[i].fn ...) in "
+                                     "this version",
+                                     t.path, v.name));
+      }
+      setters_.push_back(setter);
+    }
+  }
+  if (u.correlation)
+    correlation_factor_ = uncertainty::correlation_factor(*u.correlation, dimension());
+  check_against_the_job(job);
+}
+
+Eigen::VectorXd LearningModel::values_of(const Eigen::VectorXd& w) const {
+  const Eigen::VectorXd z = correlation_factor_ ? Eigen::VectorXd(*correlation_factor_ * w) : w;
+  Eigen::VectorXd x(z.size());
+  for (Eigen::Index j = 0; j < z.size(); ++j) {
+    const double u = std::clamp(0.5 * std::erfc(-z(j) / std::numbers::sqrt2), kUnitMin, kUnitMax);
+    x(j) = uncertainty::quantile(priors_[static_cast<std::size_t>(j)], u);
+  }
+  return x;
+}
+
+Eigen::VectorXd LearningModel::nominal_values() const {
+  Eigen::VectorXd x = Eigen::VectorXd::Ones(dimension());
+  for (const Setter& s : setters_) {
+    if (!s.scale)
+      x(s.variable) = s.nominal;
+  }
+  return x;
+}
+
+bool LearningModel::apply(const Eigen::VectorXd& x, Structure& out) const {
+  out = nominal_;
+  using F = Setter::Field;
+  for (const Setter& s : setters_) {
+    const double value = s.scale ? s.nominal * x(s.variable) : x(s.variable);
+    if (!std::isfinite(value))
+      return false;
+    switch (s.field) {
+      case F::ktc:
+        out.law.Ktc_pa = value;
+        break;
+      case F::krc:
+        out.law.Krc_pa = value;
+        break;
+      case F::kac:
+        out.law.Kac_pa = value;
+        break;
+      case F::kte:
+        out.law.Kte_n_per_m = value;
+        break;
+      case F::kre:
+        out.law.Kre_n_per_m = value;
+        break;
+      case F::kae:
+        out.law.Kae_n_per_m = value;
+        break;
+      case F::fn:
+        out.modes[static_cast<std::size_t>(s.mode)].natural_frequency_hz = value;
+        break;
+      case F::zeta:
+        out.modes[static_cast<std::size_t>(s.mode)].damping_ratio = value;
+        break;
+      case F::k:
+        out.modes[static_cast<std::size_t>(s.mode)].stiffness_n_per_m = value;
+        break;
+    }
+  }
+  const cutting::LinearLaw& l = out.law;
+  if (l.Ktc_pa < 0.0 || l.Krc_pa < 0.0 || l.Kac_pa < 0.0 || l.Kte_n_per_m < 0.0 ||
+      l.Kre_n_per_m < 0.0 || l.Kae_n_per_m < 0.0)
+    return false;
+  return std::all_of(out.modes.begin(), out.modes.end(), [](const job::ModeSpec& m) {
+    return m.natural_frequency_hz > 0.0 && m.damping_ratio > 0.0 && m.damping_ratio < 1.0 &&
+           m.stiffness_n_per_m > 0.0;
+  });
+}
+
+bool LearningModel::limits(const Eigen::VectorXd& x, std::span<const double> speeds_rad_s,
+                           std::span<stability::ZeroOrderLimit> out) const {
+  Structure structure;
+  if (!apply(x, structure))
+    return false;
+  std::vector<dynamics::Mode> modes;
+  modes.reserve(structure.modes.size());
+  for (const job::ModeSpec& spec : structure.modes) {
+    // As job::modal_model: the mass-normalized shape e ωn/√k.
+    const double omega = 2.0 * std::numbers::pi * spec.natural_frequency_hz;
+    modes.push_back({spec.natural_frequency_hz, spec.damping_ratio,
+                     spec.direction_vector * (omega / std::sqrt(spec.stiffness_n_per_m))});
+  }
+  // The grid only has to find each crossing (the limit is refined on the
+  // exact eigenvalues): 40 points per peak and 100 elsewhere give the full
+  // grid's limits (150 and 1500 points) to 1e-11 at all but 1 of 60 000
+  // (300 prior draws of the anchor case × 200 speeds; with 30 per peak, 15
+  // crossings are missed), at a third of the cost (docs/learning.md §2).
+  stability::ZeroOrderOptions options;
+  options.global_points = 100;
+  options.points_per_peak = 40;
+  options.depth_max_m = search_depth_m_;
+  const stability::ZeroOrderSolver solver(basis_(structure.law), teeth_,
+                                          dynamics::ModalModel(std::move(modes)), options);
+  for (std::size_t s = 0; s < speeds_rad_s.size(); ++s)
+    out[s] = solver.limit(speeds_rad_s[s]);
+  return true;
+}
+
+void LearningModel::check_against_the_job(const job::Job& job) const {
+  // Two prior draws, one either side of the median in every variable.
+  JobDraws draws{names_, Eigen::MatrixXd(2, dimension()), "learn check"};
+  for (int j = 0; j < dimension(); ++j) {
+    const auto& prior = priors_[static_cast<std::size_t>(j)];
+    draws.values(0, j) = uncertainty::quantile(prior, 0.31 + 0.01 * j);
+    draws.values(1, j) = uncertainty::quantile(prior, 0.73 - 0.01 * j);
+  }
+  for (std::size_t i = 0; i < 2; ++i) {
+    const job::Job drawn = job_of_draw(job, draws, i);
+    Structure mine;
+    if (!apply(draws.values.row(static_cast<Eigen::Index>(i)).transpose(), mine))
+      continue;  // the re-read job refuses it too (job_of_draw threw otherwise)
+    const auto close = [](double a, double b) {
+      return std::abs(a - b) <= 1e-9 * std::max(std::abs(a), std::abs(b)) + 1e-300;
+    };
+    const auto& law = std::get<cutting::LinearLaw>(*drawn.cutting);
+    bool same = close(law.Ktc_pa, mine.law.Ktc_pa) && close(law.Krc_pa, mine.law.Krc_pa) &&
+                close(law.Kac_pa, mine.law.Kac_pa) && drawn.modes.size() == mine.modes.size();
+    for (std::size_t m = 0; same && m < mine.modes.size(); ++m) {
+      same = close(drawn.modes[m].natural_frequency_hz, mine.modes[m].natural_frequency_hz) &&
+             close(drawn.modes[m].damping_ratio, mine.modes[m].damping_ratio) &&
+             close(drawn.modes[m].stiffness_n_per_m, mine.modes[m].stiffness_n_per_m);
+    }
+    if (!same)
+      throw InputError("uncertainty", job.uncertainty->line,
+                       "learn sets the variables' fields directly, and for this job that does "
+                       "not give what re-reading the job does (a mode given by its mass m or "
+                       "its shape, whose k follows fn): give the modes learned with fn, zeta "
+                       "and k");
+  }
+}
+
+}  // namespace robomill::analysis

@@ -1,0 +1,152 @@
+// robomill learn JOB: the job's uncertain inputs updated from its test cuts,
+// and the next test to run (issue 35, docs/learning.md). The numbers are
+// analysis::learn's; this file writes them as posterior.csv, summary.json,
+// lobes_quantiles.csv and chatter_probability.csv (the posterior's, as
+// `stability` writes a band), lobes_quantiles_prior.csv and experiments.csv.
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "band_outputs.hpp"
+#include "robomill/analysis/learning.hpp"
+#include "robomill/commands/commands.hpp"
+#include "robomill/core/constants.hpp"
+#include "robomill/io/csv.hpp"
+
+namespace robomill::commands {
+namespace {
+
+nlohmann::json summary_json(const analysis::VariableSummary& s) {
+  return {{"mean", s.mean}, {"sd", s.sd}, {"q05", s.q05}, {"q50", s.q50}, {"q95", s.q95}};
+}
+
+/// A number, or null where there is none (never NaN in summary.json).
+nlohmann::json number_or_null(double value) {
+  return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
+}
+
+nlohmann::json next_test_json(const analysis::NextTest& t) {
+  if (!t.found)
+    return {{"found", false}, {"strategy", t.strategy}, {"reason", t.reason}};
+  return {{"found", true},
+          {"strategy", t.strategy},
+          {"reason", t.reason},
+          {"spindle_rpm", t.spindle_rad_s * kRpmPerRadS},
+          {"ap_mm", t.depth_m * 1e3},
+          {"p_chatter", t.p_chatter},
+          {"information_bits", t.information_bits},
+          {"mrr_cm3_min", t.removal_rate_m3_s * 1e6 * 60.0}};
+}
+
+io::CsvTable posterior_table(const analysis::LearningResult& r) {
+  io::CsvTable table(r.names);
+  for (Eigen::Index i = 0; i < r.posterior_values.rows(); ++i) {
+    std::vector<double> row;
+    for (Eigen::Index j = 0; j < r.posterior_values.cols(); ++j)
+      row.push_back(r.posterior_values(i, j));
+    table.add_row(row);
+  }
+  return table;
+}
+
+io::CsvTable experiments_table(const analysis::LearningResult& r) {
+  io::CsvTable table({"experiment", "line", "spindle_rpm", "depth_mm", "chatter", "chatter_freq_hz",
+                      "predicted_chatter_freq_hz", "p_chatter_prior", "p_chatter_posterior"});
+  for (const analysis::LearnedExperiment& e : r.experiments) {
+    table.add_row({static_cast<double>(e.index), static_cast<double>(e.line),
+                   e.spindle_rad_s * kRpmPerRadS, e.depth_m * 1e3, e.chatter ? 1.0 : 0.0,
+                   e.chatter_frequency_hz, e.predicted_chatter_frequency_hz, e.p_chatter_prior,
+                   e.p_chatter_posterior});
+  }
+  return table;
+}
+
+nlohmann::json diagnostics_json(const learning::SmcPosterior& s) {
+  nlohmann::json temperatures = nlohmann::json::array();
+  for (const learning::SmcStage& stage : s.stages)
+    temperatures.push_back(stage.temperature);
+  return {{"sampler", "tempered sequential Monte Carlo, random-walk Metropolis moves"},
+          {"samples", s.particles.rows()},
+          {"stages", s.stages.size()},
+          {"temperatures", temperatures},
+          {"min_ess_fraction", s.min_ess_fraction},
+          {"acceptance", s.acceptance},
+          {"log_evidence", s.log_evidence},
+          {"likelihood_evaluations", s.likelihood_evaluations}};
+}
+
+}  // namespace
+
+CommandResult compute_learn(const job::Job& job, int threads) {
+  const analysis::LearningResult r = analysis::learn(job, threads);
+  CommandResult result;
+  nlohmann::json variables = nlohmann::json::object();
+  for (std::size_t j = 0; j < r.names.size(); ++j) {
+    nlohmann::json correlations = nlohmann::json::object();
+    for (std::size_t k = 0; k < r.names.size(); ++k) {
+      if (k != j)
+        correlations[r.names[k]] =
+            r.posterior_correlation(static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(k));
+    }
+    variables[r.names[j]] = {{"unit", r.units[j]},
+                             {"prior", summary_json(r.prior[j])},
+                             {"posterior", summary_json(r.posterior[j])},
+                             {"posterior_correlation", correlations}};
+  }
+  nlohmann::json used = nlohmann::json::array();
+  for (const analysis::LearnedExperiment& e : r.experiments) {
+    used.push_back(
+        {{"experiment", e.index},
+         {"line", e.line},
+         {"spindle_rpm", e.spindle_rad_s * kRpmPerRadS},
+         {"depth_mm", e.depth_m * 1e3},
+         {"chatter", e.chatter},
+         {"chatter_freq_hz",
+          number_or_null(e.chatter_frequency_hz > 0.0 ? e.chatter_frequency_hz : NAN)},
+         {"predicted_chatter_freq_hz",
+          number_or_null(e.predicted_chatter_frequency_hz > 0.0 ? e.predicted_chatter_frequency_hz
+                                                                : NAN)},
+         {"p_chatter_prior", e.p_chatter_prior},
+         {"p_chatter_posterior", e.p_chatter_posterior}});
+  }
+  result.summary = {
+      {"command", "learn"},
+      {"job", job.source.string()},
+      {"variables", variables},
+      {"next_test", next_test_json(r.next)},
+      {"experiments_used", used},
+      {"experiments_skipped", nlohmann::json::array()},
+      {"warnings", r.warnings},
+      {"boundary_spread_mm",
+       {{"prior", r.prior_spread_m * 1e3},
+        {"posterior", r.posterior_spread_m * 1e3},
+        {"posterior_without_last_test", number_or_null(r.spread_before_last_m * 1e3)}}},
+      {"diagnostics", diagnostics_json(r.sampler)},
+      {"elapsed_s", r.elapsed_s}};
+  result.tables.emplace_back("posterior", posterior_table(r));
+  result.tables.emplace_back("lobes_quantiles", band_quantiles_table(r.posterior_band));
+  result.tables.emplace_back("chatter_probability", band_probability_table(r.posterior_band));
+  result.tables.emplace_back("lobes_quantiles_prior", band_quantiles_table(r.prior_band));
+  result.tables.emplace_back("experiments", experiments_table(r));
+
+  for (const std::string& w : r.warnings)
+    result.message += "  warning: " + w + "\n";
+  result.message += fmt::format(
+      "  {} experiments, {} samples ({} stages, acceptance {:.2f}, log evidence {:.3f}) in "
+      "{:.2f} s; boundary spread {:.3f} → {:.3f} mm\n",
+      r.experiments.size(), r.posterior_values.rows(), r.sampler.stages.size(),
+      r.sampler.acceptance, r.sampler.log_evidence, r.elapsed_s, r.prior_spread_m * 1e3,
+      r.posterior_spread_m * 1e3);
+  if (r.next.found)
+    result.message += fmt::format(
+        "next test: {:.0f} rpm, ap {:.3f} mm (P(chatter) {:.2f}, {:.3f} bits, {:.2f} cm³/min; "
+        "{})\n",
+        r.next.spindle_rad_s * kRpmPerRadS, r.next.depth_m * 1e3, r.next.p_chatter,
+        r.next.information_bits, r.next.removal_rate_m3_s * 1e6 * 60.0, r.next.strategy);
+  else
+    result.message += "next test: none (" + r.next.reason + ")\n";
+  return result;
+}
+
+}  // namespace robomill::commands

@@ -1,0 +1,14 @@
+#pragma once
+// Private to the job parser: the `learn:` section of `robomill learn`
+// (issue 35, docs/learning.md).
+
+#include "robomill/job/job.hpp"
+#include "yaml_reader.hpp"
+
+namespace robomill::job::detail {
+
+/// Reads `learn` into job.learn (after `uncertainty`, whose seed is its
+/// default seed). Throws InputError naming the field and line.
+void read_learn(SectionReader& root, Job& job);
+
+}  // namespace robomill::job::detail
