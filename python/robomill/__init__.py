@@ -46,6 +46,7 @@ __all__ = [
     "frf",
     "identify_cutting",
     "identify_stiffness",
+    "learn",
     "listen",
     "optimize",
     "robot",
@@ -237,6 +238,15 @@ def advise(job, threads: int = 0, out: Optional[PathLike] = None) -> dict:
     """``robomill advise``: cutting-parameter advice → "advice", "advice_map"
     (+ "redundancy")."""
     return _result(_robomill.advise(_job(job), _threads(threads), _out(out)))
+
+
+def learn(job, threads: int = 0, out: Optional[PathLike] = None) -> dict:
+    """``robomill learn``: the uncertain inputs updated from the experiments
+    (docs/learning.md) → "posterior" (one array per variable, one entry per
+    sample), "lobes_quantiles" and "chatter_probability" (the posterior band),
+    "lobes_quantiles_prior", "experiments", and in "summary" every variable's
+    prior and posterior and the next test (summary["next_test"])."""
+    return _result(_robomill.learn(_job(job), _threads(threads), _out(out)))
 
 
 def surface(job, threads: int = 0, out: Optional[PathLike] = None) -> dict:

@@ -276,6 +276,7 @@ void register_job_commands(py::module_& m) {
   def_job_command(m, "optimize", robomill::commands::compute_optimize);
   def_job_command(m, "advise", robomill::commands::compute_advise);
   def_job_command(m, "surface", robomill::commands::compute_surface);
+  def_job_command(m, "learn", robomill::commands::compute_learn);
 }
 
 /// toolpath, listen, and the chatter detector on samples in memory.

@@ -41,6 +41,11 @@ CASES = [
     ("advise", robomill.advise, "uncertainty_stability.yaml",
      ["uncertainty.samples=16", "advise.speeds={from: 300 rpm, to: 6000 rpm, count: 12}",
       "advise.refine=2"]),
+    # Learning from tests (issue 35): the posterior samples, both bands, the
+    # experiments and the next test, on a coarse grid with few samples.
+    ("learn", robomill.learn, "learn/anchor_tool.yaml",
+     ["learn.samples=200", "uncertainty.samples=64", "stability.speeds.count=16",
+      "stability.depths=8"]),
     ("surface", robomill.surface, "001_case_5_surface.yaml",
      ["surface.grid=[100, 100]", "surface.grid_rule=false"]),
     ("toolpath", robomill.toolpath, "toolpath_pocket_gcode.yaml", []),

@@ -10,6 +10,7 @@
 
 #include "robomill/analysis/job_draws.hpp"
 #include "robomill/analysis/learning_model.hpp"
+#include "robomill/analysis/recording_verdicts.hpp"
 #include "robomill/core/constants.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/core/parallel.hpp"
@@ -228,10 +229,59 @@ std::string describe_test(const job::Experiment& t, std::size_t index) {
                      t.chatter ? "chatter" : "stable");
 }
 
+/// The experiments as learned: each written verdict, or its recording's
+/// (`listen`'s analysis: the verdict, the chatter line, the measured
+/// spindle speed); a recording judged "unknown" is skipped with its reason.
+struct ResolvedTests {
+  std::vector<job::Experiment> used;
+  std::vector<std::size_t> index;  ///< of each used test in job.experiments
+  std::vector<bool> from_recording;
+  std::vector<SkippedExperiment> skipped;
+};
+
+ResolvedTests resolve_tests(const job::Job& job, int threads, std::vector<std::string>& warnings) {
+  ResolvedTests out;
+  for (std::size_t i = 0; i < job.experiments.size(); ++i) {
+    job::Experiment t = job.experiments[i];
+    if (t.recording) {
+      // listen's analysis of this one recording: the job's tool, process
+      // and listen settings, no lobes (the verdict does not need them).
+      job::Job one = job;
+      one.stability.reset();
+      one.recordings = {*t.recording};
+      one.recordings_listed = true;
+      RecordingVerdicts verdicts;
+      try {
+        verdicts = recording_verdicts(one, threads);
+      } catch (const InputError& e) {
+        throw InputError(fmt::format("experiments[{}].recording", i), t.line, e.what());
+      }
+      const monitoring::RecordingAnalysis& a = verdicts.recordings.front().analysis;
+      if (a.verdict == monitoring::Verdict::unknown) {
+        out.skipped.push_back({i, t.line, "its recording's verdict is unknown: " + a.reason});
+        continue;
+      }
+      const bool heard = a.verdict == monitoring::Verdict::chatter;
+      if (t.verdict_given && heard != t.chatter)
+        warnings.push_back(fmt::format(
+            "experiments[{}] (line {}): written chatter: {}, its recording says {}; the "
+            "recording's verdict is used",
+            i, t.line, t.chatter ? "true" : "false", heard ? "chatter" : "stable"));
+      t.chatter = heard;
+      t.chatter_frequency_hz = heard ? a.chatter_hz : 0.0;
+      t.spindle_rad_s = 2.0 * std::numbers::pi * a.spindle_hz_measured;
+    }
+    out.used.push_back(t);
+    out.index.push_back(i);
+    out.from_recording.push_back(t.recording.has_value());
+  }
+  return out;
+}
+
 /// Pairs of tests at one speed where the deeper one was stable and the
 /// shallower one chattered.
-void warn_contradictions(const std::vector<job::Experiment>& tests,
-                         std::vector<std::string>& warnings) {
+void warn_contradictions(const ResolvedTests& resolved, std::vector<std::string>& warnings) {
+  const std::vector<job::Experiment>& tests = resolved.used;
   for (std::size_t i = 0; i < tests.size(); ++i) {
     for (std::size_t j = 0; j < tests.size(); ++j) {
       const job::Experiment &stable = tests[i], &chatter = tests[j];
@@ -244,7 +294,7 @@ void warn_contradictions(const std::vector<job::Experiment>& tests,
           "{} and {} contradict each other: at one speed the deeper cut was stable and the "
           "shallower one chattered; the posterior weighs one of them as mislabelled "
           "(learn.mislabel)",
-          describe_test(stable, i), describe_test(chatter, j)));
+          describe_test(stable, resolved.index[i]), describe_test(chatter, resolved.index[j])));
     }
   }
 }
@@ -340,11 +390,12 @@ double latest_test_information(const LearningModel& model, const Eigen::MatrixXd
 /// productivity while the boundary could still be learned. Sets `strategy`
 /// and the result's spread without the latest test; returns the reason.
 std::string switching_choice(const LearningModel& model, const job::Job& job,
+                             const std::vector<job::Experiment>& tests,
                              const Posteriors& posteriors, const std::vector<double>& speeds,
                              const LearnSettings& settings, int threads, LearningResult& result,
                              std::string& strategy) {
   constexpr double kTeachingBits = 0.1;
-  if (job.experiments.size() < 2)
+  if (tests.size() < 2)
     return "fewer than two tests: information";
   const Eigen::MatrixXd before = values_of(model, posteriors.without_latest.particles);
   const StabilityBand band =
@@ -352,7 +403,7 @@ std::string switching_choice(const LearningModel& model, const job::Job& job,
   result.spread_before_last_m = mean_spread_m(band);
   const double shrink = 1.0 - result.posterior_spread_m / result.spread_before_last_m;
   const double taught =
-      latest_test_information(model, before, job.experiments.back(), verdict_model(settings));
+      latest_test_information(model, before, tests.back(), verdict_model(settings));
   if (taught < kTeachingBits)
     return fmt::format(
         "the latest test could teach {:.2f} bits (< {:.1f}: a cut inside the known region): "
@@ -380,7 +431,9 @@ LearningResult learn(const job::Job& job, int threads) {
                                ? std::string("factor")
                                : job::si_unit(v.targets.front().dimension));
 
-  const Evidence evidence = evidence_of(job.experiments);
+  const ResolvedTests resolved = resolve_tests(job, threads, result.warnings);
+  result.skipped = resolved.skipped;
+  const Evidence evidence = evidence_of(resolved.used);
   const Posteriors posteriors = sample(model, evidence, settings, threads);
   result.sampler = posteriors.all;
   result.posterior_values = values_of(model, result.sampler.particles);
@@ -422,10 +475,12 @@ LearningResult learn(const job::Job& job, int threads) {
     }
     return count ? sum / count : 0.0;
   };
-  for (std::size_t i = 0; i < job.experiments.size(); ++i) {
-    const job::Experiment& t = job.experiments[i];
+  for (std::size_t k = 0; k < resolved.used.size(); ++k) {
+    const job::Experiment& t = resolved.used[k];
+    const std::size_t i = resolved.index[k];
     LearnedExperiment e{
         i, t.line, t.spindle_rad_s, t.axial_depth_m, t.chatter, t.chatter_frequency_hz};
+    e.from_recording = resolved.from_recording[k];
     e.p_chatter_prior = predictive(prior_draws.values, t, nullptr);
     std::vector<double> family;
     e.p_chatter_posterior =
@@ -440,14 +495,15 @@ LearningResult learn(const job::Job& job, int threads) {
           describe_test(t, i), p_verdict));
     result.experiments.push_back(e);
   }
-  warn_contradictions(job.experiments, result.warnings);
+  warn_contradictions(resolved, result.warnings);
 
   // The next test.
   std::string strategy =
       settings.strategy == LearnSettings::Strategy::productivity ? "productivity" : "information";
   std::string reason;
   if (settings.strategy == LearnSettings::Strategy::switching)
-    reason = switching_choice(model, job, posteriors, speeds, settings, threads, result, strategy);
+    reason = switching_choice(model, job, resolved.used, posteriors, speeds, settings, threads,
+                              result, strategy);
   result.next = choose_test(job, result.posterior_band, settings, strategy, threads);
   if (result.next.reason.empty())
     result.next.reason = reason;

@@ -262,6 +262,8 @@ ExperimentComparison compare_experiments(const std::vector<job::Experiment>& exp
                                          const dynamics::ModalModel* modes) {
   ExperimentComparison comparison;
   for (const job::Experiment& e : experiments) {
+    if (!e.verdict_given)
+      continue;  // a recording's verdict is learn's (docs/learning.md), not written here
     ExperimentCheck check;
     check.experiment = e;
     check.limit_m = interpolated_limit_m(limits, e.spindle_rad_s);

@@ -52,12 +52,13 @@ io::CsvTable posterior_table(const analysis::LearningResult& r) {
 
 io::CsvTable experiments_table(const analysis::LearningResult& r) {
   io::CsvTable table({"experiment", "line", "spindle_rpm", "depth_mm", "chatter", "chatter_freq_hz",
-                      "predicted_chatter_freq_hz", "p_chatter_prior", "p_chatter_posterior"});
+                      "predicted_chatter_freq_hz", "p_chatter_prior", "p_chatter_posterior",
+                      "from_recording"});
   for (const analysis::LearnedExperiment& e : r.experiments) {
     table.add_row({static_cast<double>(e.index), static_cast<double>(e.line),
                    e.spindle_rad_s * kRpmPerRadS, e.depth_m * 1e3, e.chatter ? 1.0 : 0.0,
                    e.chatter_frequency_hz, e.predicted_chatter_frequency_hz, e.p_chatter_prior,
-                   e.p_chatter_posterior});
+                   e.p_chatter_posterior, e.from_recording ? 1.0 : 0.0});
   }
   return table;
 }
@@ -108,15 +109,19 @@ CommandResult compute_learn(const job::Job& job, int threads) {
           number_or_null(e.predicted_chatter_frequency_hz > 0.0 ? e.predicted_chatter_frequency_hz
                                                                 : NAN)},
          {"p_chatter_prior", e.p_chatter_prior},
-         {"p_chatter_posterior", e.p_chatter_posterior}});
+         {"p_chatter_posterior", e.p_chatter_posterior},
+         {"source", e.from_recording ? "recording" : "written"}});
   }
+  nlohmann::json skipped = nlohmann::json::array();
+  for (const analysis::SkippedExperiment& e : r.skipped)
+    skipped.push_back({{"experiment", e.index}, {"line", e.line}, {"reason", e.reason}});
   result.summary = {
       {"command", "learn"},
       {"job", job.source.string()},
       {"variables", variables},
       {"next_test", next_test_json(r.next)},
       {"experiments_used", used},
-      {"experiments_skipped", nlohmann::json::array()},
+      {"experiments_skipped", skipped},
       {"warnings", r.warnings},
       {"boundary_spread_mm",
        {{"prior", r.prior_spread_m * 1e3},
@@ -132,6 +137,9 @@ CommandResult compute_learn(const job::Job& job, int threads) {
 
   for (const std::string& w : r.warnings)
     result.message += "  warning: " + w + "\n";
+  for (const analysis::SkippedExperiment& e : r.skipped)
+    result.message +=
+        fmt::format("  note: experiments[{}] (line {}) skipped: {}\n", e.index, e.line, e.reason);
   result.message += fmt::format(
       "  {} experiments, {} samples ({} stages, acceptance {:.2f}, log evidence {:.3f}) in "
       "{:.2f} s; boundary spread {:.3f} → {:.3f} mm\n",

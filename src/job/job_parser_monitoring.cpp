@@ -37,7 +37,10 @@ monitoring::SignalKind signal_kind(const std::string& word) {
 }
 
 // One recording: `recording:` or an entry of `recordings:`.
-io::RecordingSpec read_recording(SectionReader& r, const Job& job, bool listed) {
+/// `commanded_spindle_rad_s`: the speed of the section the recording sits
+/// in (an experiment's), the default of its `spindle`.
+io::RecordingSpec read_recording(SectionReader& r, const Job& job, bool listed,
+                                 std::optional<double> commanded_spindle_rad_s = std::nullopt) {
   r.allow_schema(listed ? "recordings[]" : "recording");
   io::RecordingSpec spec;
   spec.path = r.path();
@@ -113,6 +116,8 @@ io::RecordingSpec read_recording(SectionReader& r, const Job& job, bool listed) 
     spec.tachometer_pulses = r.integer("tachometer_pulses", 1, 1000);
   }
   spec.spindle_rad_s = r.optional_quantity("spindle", rpm());
+  if (!spec.spindle_rad_s)
+    spec.spindle_rad_s = commanded_spindle_rad_s;
   spec.depth_m = r.optional_quantity("depth", length_mm());
   spec.note = r.optional_text("note").value_or("");
   r.finish();
@@ -154,6 +159,11 @@ ListenSettings read_listen(SectionReader& r) {
 }
 
 }  // namespace
+
+io::RecordingSpec read_nested_recording(SectionReader& r, const Job& job,
+                                        double spindle_rad_s) {
+  return read_recording(r, job, false, spindle_rad_s);
+}
 
 void read_monitoring(SectionReader& root, Job& job) {
   if (root.has("recording") && root.has("recordings"))

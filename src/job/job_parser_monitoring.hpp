@@ -13,4 +13,9 @@ namespace robomill::job::detail {
 /// field and line.
 void read_monitoring(SectionReader& root, Job& job);
 
+/// One recording written inside another section (`experiments[].recording`),
+/// with the keys of `recording:`; its spindle defaults to `spindle_rad_s`
+/// (the experiment's).
+io::RecordingSpec read_nested_recording(SectionReader& r, const Job& job, double spindle_rad_s);
+
 }  // namespace robomill::job::detail

@@ -263,7 +263,8 @@ constexpr Field kFields[] = {
   // --- experiments
   {"experiments[]", "spindle", K::quantity, "rpm", "> 0", "", "yes", "Spindle speed of the test."},
   {"experiments[]", "depth", K::quantity, "mm", "> 0", "", "yes", "Axial depth of the test."},
-  {"experiments[]", "chatter", K::boolean, "", "", "", "yes", "Whether the test chattered."},
+  {"experiments[]", "chatter", K::boolean, "", "", "", "unless recording", "Whether the test chattered."},
+  {"experiments[]", "recording", K::map, "", "", "", "", "The test's recording, with the keys of `recording` (its spindle and depth default to the test's): `robomill learn` takes the verdict, the chatter frequency and the measured spindle speed from `listen`'s analysis of it; an \"unknown\" verdict skips the test with a note."},
   {"experiments[]", "chatter_freq", K::quantity, "Hz", "> 0", "", "", "The chatter frequency heard in a test that chattered: `robomill learn` compares it with the nearest predicted family |±fc + k·f_tooth| (learn.chatter_freq_sd)."},
 
   // --- output

@@ -127,6 +127,10 @@ void forces_figures(const Outputs& outputs, Content& content);
 /// nominal lobe and the chatter-probability map (lobes_quantiles.csv,
 /// chatter_probability.csv; figures_uncertainty.cpp). Nothing without them.
 void stability_band_figures(const Outputs& outputs, Content& content);
+/// `learn`'s figures: the prior and posterior bands with the tests and the
+/// next one, the posterior P(chatter), the marginals, the correlations and
+/// the chatter frequencies (figures_learning.cpp).
+void learning_figures(const Outputs& outputs, Content& content);
 /// A map of `value` over the position columns `coords` (the first two that
 /// vary form the map; any further varying one becomes buttons). Rows whose
 /// `mask` column is 0 (unreachable) are left blank. One varying coordinate

@@ -954,6 +954,8 @@ Content build_content(const Outputs& o) {
     toolpath_figures(o, c);
   else if (cmd == "listen")
     listen_figures(o, c);
+  else if (cmd == "learn")
+    learning_figures(o, c);
   else {
     for (const auto& [name, text] : o.files)
       if (name.ends_with(".csv"))
@@ -973,7 +975,7 @@ bool has_dedicated_figures(std::string_view command) {
       "forces",   "stability",  "fit-modes",        "frf",
       "robot",    "atlas",      "optimize",         "advise",
       "simulate", "deflection", "identify-cutting", "identify-stiffness",
-      "surface",  "toolpath",   "listen"};
+      "surface",  "toolpath",   "listen",           "learn"};
   // clang-format on
   return commands.count(command) > 0;
 }

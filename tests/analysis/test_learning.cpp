@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -113,13 +114,78 @@ TEST(Learning, ContradictoryTestsGiveAProperPosteriorAndAWarningNamingBoth) {
   - {spindle: 7340 rpm, depth: 5 mm, chatter: false}
   - {spindle: 7340 rpm, depth: 1 mm, chatter: true}
 )";
-  const ra::LearningResult r = ra::learn(job::parse_job(anchor_yaml("zoa", experiments), "c.yaml"));
+  // 400 samples: the checks are on the warning and the posterior's being proper.
+  const ra::LearningResult r = ra::learn(
+      job::parse_job(anchor_yaml("zoa", experiments), "c.yaml", {{"learn.samples", "400"}}));
   ASSERT_EQ(r.warnings.size(), 1u);
   EXPECT_NE(r.warnings[0].find("experiments[0]"), std::string::npos) << r.warnings[0];
   EXPECT_NE(r.warnings[0].find("experiments[1]"), std::string::npos) << r.warnings[0];
   EXPECT_TRUE(std::isfinite(r.sampler.log_evidence));
-  EXPECT_EQ(r.posterior_values.rows(), 1000);
+  EXPECT_EQ(r.posterior_values.rows(), 400);
   EXPECT_TRUE(r.posterior_values.allFinite());
+}
+
+/// The one-DOF benchmark's recorded pair (examples/listen) as experiments:
+/// the verdicts, chatter line and spindle speed come from `listen`'s
+/// analysis; a recording too short to judge is skipped with its reason; an
+/// unreadable one is an error naming the experiment.
+std::string recorded_yaml(const std::string& third) {
+  return R"(name: learning from recordings
+tool: {type: flat, diameter: 10 mm, teeth: 2, helix: 0 deg, overhang: 50 mm}
+cutting: {law: linear, Ktc: 600 N/mm^2, Krc: 200 N/mm^2}
+process: {spindle: 12000 rpm, feed_per_tooth: 0.1 mm, ap: 1 mm, ae: 0.5 mm, direction: down}
+dynamics:
+  modes:
+    - {direction: x, fn: 922 Hz, zeta: 0.011, k: 1.34e6 N/m}
+stability: {method: zoa, speeds: {from: 8000 rpm, to: 16000 rpm, count: 41}, depth_max: 10 mm, depths: 20}
+uncertainty:
+  variables:
+    - {name: k, path: dynamics.modes.0.k, mode: scale, distribution: lognormal, median: 1, sigma: 0.3}
+    - {name: zeta, path: dynamics.modes.0.zeta, mode: scale, distribution: lognormal, median: 1, sigma: 0.3}
+learn: {samples: 300}
+experiments:
+  - spindle: 12000 rpm
+    depth: 1.35056 mm
+    recording: {file: displacement_stable.wav, signal: displacement, scale: 0.000295405613}
+  - spindle: 12000 rpm
+    depth: 2.11025 mm
+    chatter: false
+    recording: {file: displacement_chatter.wav, signal: displacement, scale: 0.000295405613}
+  - spindle: 12000 rpm
+    depth: 1.7 mm
+    recording: {file: )" +
+         third + R"(}
+)";
+}
+
+TEST(Learning, RecordingsGiveTheVerdictsAndAnUnknownOneIsSkipped) {
+  const std::filesystem::path job_file =
+      std::filesystem::path(ROBOMILL_SOURCE_DIR) / "examples" / "listen" / "learning.yaml";
+  const ra::LearningResult r = ra::learn(job::parse_job(
+      recorded_yaml("displacement_chatter.wav, signal: displacement, duration: 0.02 s"), job_file));
+  ASSERT_EQ(r.experiments.size(), 2u);
+  EXPECT_TRUE(r.experiments[0].from_recording);
+  EXPECT_FALSE(r.experiments[0].chatter);
+  EXPECT_TRUE(r.experiments[1].chatter);  // the recording's verdict over the written one
+  EXPECT_GT(r.experiments[1].chatter_frequency_hz, 0.0);
+  EXPECT_NEAR(r.experiments[0].spindle_rad_s * robomill::kRpmPerRadS, 12000.0, 12.0);
+  ASSERT_EQ(r.warnings.size(), 1u);
+  EXPECT_NE(r.warnings[0].find("experiments[1]"), std::string::npos) << r.warnings[0];
+  ASSERT_EQ(r.skipped.size(), 1u);
+  EXPECT_EQ(r.skipped[0].index, 2u);
+  EXPECT_NE(r.skipped[0].reason.find("unknown"), std::string::npos) << r.skipped[0].reason;
+  // The posterior moved the limit at 12000 rpm between the two depths.
+  const ra::StabilityBand& band = r.posterior_band;
+  // 12000 rpm is the middle of the 41 speeds.
+  EXPECT_NEAR(band.speeds_rad_s[20] * robomill::kRpmPerRadS, 12000.0, 1e-6);
+  EXPECT_GT(band.q50_m[20].value, 1.35056e-3);
+  EXPECT_LT(band.q50_m[20].value, 2.11025e-3);
+  try {
+    ra::learn(job::parse_job(recorded_yaml("no_such_file.wav"), job_file));
+    ADD_FAILURE() << "accepted";
+  } catch (const robomill::InputError& e) {
+    EXPECT_EQ(e.field(), "experiments[2].recording") << e.what();
+  }
 }
 
 /// The anchor's judging loop on a coarser grid: tests chosen by learn one at a

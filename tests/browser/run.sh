@@ -48,6 +48,8 @@ run toolpath        toolpath   "$EX/toolpath_pocket_gcode.yaml"
 run toolpath-uncertainty toolpath "$EX/uncertainty_toolpath.yaml" --set uncertainty.samples=8 \
     --set "toolpath.spacing=1 mm"
 run listen          listen     "$EX/listen/benchmark_displacement_wav.yaml"
+run learn           learn      "$EX/learn/anchor_tool.yaml" --set learn.samples=500 \
+    --set uncertainty.samples=200
 run identify-stiffness identify-stiffness "$EX/data/000_kr600_loading_tests.csv" \
     --job "$EX/000_kr600_multipoint.yaml"
 

@@ -204,6 +204,7 @@ dynamics:
 cutting: {law: linear, Ktc: 855 N/mm^2, Krc: 290 N/mm^2}
 experiments:
   - {spindle: 5130 rpm, depth: 1.7 mm, chatter: true, chatter_freq: 2113 Hz}
+  - {spindle: 5210 rpm, depth: 1.2 mm, recording: {file: listen/displacement_stable.wav}}
 uncertainty:
   variables:
     - {name: k, path: dynamics.modes.0.k, mode: scale, distribution: lognormal, median: 1, sigma: 0.2}

@@ -54,6 +54,16 @@ struct LearnedExperiment {
   /// The posterior median of the predicted family member nearest to the
   /// measured chatter frequency (Hz); 0 without a measured one.
   double predicted_chatter_frequency_hz = 0.0;
+  /// Whether the verdict, chatter frequency and spindle speed are its
+  /// recording's (`listen`'s analysis; spindle_rad_s is then the measured one).
+  bool from_recording = false;
+};
+
+/// An experiment left out, and why (a recording judged "unknown").
+struct SkippedExperiment {
+  std::size_t index = 0;  ///< in job.experiments
+  int line = 0;
+  std::string reason;
 };
 
 /// The test to run next.
@@ -79,7 +89,8 @@ struct LearningResult {
   /// The mean over the speeds of the band's 5-95 % width (m): prior, posterior,
   /// and the posterior without the latest experiment (NaN when not sampled).
   double prior_spread_m = 0.0, posterior_spread_m = 0.0, spread_before_last_m = 0.0;
-  std::vector<LearnedExperiment> experiments;
+  std::vector<LearnedExperiment> experiments;  ///< the ones used
+  std::vector<SkippedExperiment> skipped;
   std::vector<std::string> warnings;  ///< contradictory or surprising tests
   learning::SmcPosterior sampler;     ///< diagnostics (its particles are the w coordinates)
   NextTest next;

@@ -121,6 +121,12 @@ struct Experiment {
   bool chatter = false;
   /// `chatter_freq`: the chatter line heard (Hz); 0 when not given.
   double chatter_frequency_hz = 0.0;
+  /// Whether `chatter` was written; false when only a recording says.
+  bool verdict_given = true;
+  /// `recording:` the cut's recording (as `recordings[]`): `learn` takes the
+  /// verdict, the chatter frequency and the measured spindle speed from
+  /// `listen`'s analysis of it. Its spindle and depth default to the test's.
+  std::optional<io::RecordingSpec> recording;
   int line = 0;  ///< the entry's line (for messages)
 };
 
