@@ -365,20 +365,35 @@ NextTest choose_test(const job::Job& job, const StabilityBand& band, const Learn
   return chosen;
 }
 
-/// The expected information (bits) the latest test had under the posterior
-/// without it, on at most kSelectionSamples of its samples.
-double latest_test_information(const LearningModel& model, const Eigen::MatrixXd& values,
-                               const job::Experiment& test, const learning::VerdictModel& verdict) {
+/// What the samples predict for a test: each one's P(chatter) (the probit),
+/// on at most kSelectionSamples of them, and with `family_hz` the predicted
+/// family member nearest to the test's chatter frequency.
+std::vector<double> predicted_chatter(const LearningModel& model, const Eigen::MatrixXd& values,
+                                      const job::Experiment& test,
+                                      const learning::VerdictModel& verdict,
+                                      std::vector<double>* family_hz = nullptr) {
   const Eigen::Index stride = std::max<Eigen::Index>(1, values.rows() / kSelectionSamples);
   const std::vector<double> speed = {test.spindle_rad_s};
   std::vector<stability::ZeroOrderLimit> limit(1);
   std::vector<double> p;
   for (Eigen::Index i = 0; i < values.rows(); i += stride) {
-    if (model.limits(values.row(i).transpose(), speed, limit))
-      p.push_back(
-          learning::chatter_probability(test.axial_depth_m, limit_or_infinity(limit[0]), verdict));
+    if (!model.limits(values.row(i).transpose(), speed, limit))
+      continue;
+    p.push_back(
+        learning::chatter_probability(test.axial_depth_m, limit_or_infinity(limit[0]), verdict));
+    if (family_hz && limit[0].limited)
+      family_hz->push_back(learning::nearest_chatter_family_hz(
+          test.chatter_frequency_hz, limit[0].chatter_frequency_hz,
+          model.teeth() * test.spindle_rad_s / (2.0 * std::numbers::pi)));
   }
-  return learning::expected_information_bits(p);
+  return p;
+}
+
+double mean_of(const std::vector<double>& values) {
+  double sum = 0.0;
+  for (const double v : values)
+    sum += v;
+  return values.empty() ? 0.0 : sum / static_cast<double>(values.size());
 }
 
 /// The switching strategy's choice (issue 35: information until the
@@ -402,8 +417,8 @@ std::string switching_choice(const LearningModel& model, const job::Job& job,
       band_of(model, job, before, "posterior without the latest test", speeds, threads);
   result.spread_before_last_m = mean_spread_m(band);
   const double shrink = 1.0 - result.posterior_spread_m / result.spread_before_last_m;
-  const double taught =
-      latest_test_information(model, before, tests.back(), verdict_model(settings));
+  const double taught = learning::expected_information_bits(
+      predicted_chatter(model, before, tests.back(), verdict_model(settings)));
   if (taught < kTeachingBits)
     return fmt::format(
         "the latest test could teach {:.2f} bits (< {:.1f}: a cut inside the known region): "
@@ -457,34 +472,17 @@ LearningResult learn(const job::Job& job, int threads) {
 
   // Every test's predicted verdict, before and after; the chatter frequency predicted.
   const learning::VerdictModel verdict = verdict_model(settings);
-  const auto predictive = [&](const Eigen::MatrixXd& values, const job::Experiment& t,
-                              std::vector<double>* family_hz) {
-    const Eigen::Index stride = std::max<Eigen::Index>(1, values.rows() / kSelectionSamples);
-    std::vector<stability::ZeroOrderLimit> limit(1);
-    const std::vector<double> speed = {t.spindle_rad_s};
-    double sum = 0.0;
-    int count = 0;
-    for (Eigen::Index i = 0; i < values.rows(); i += stride, ++count) {
-      if (!model.limits(values.row(i).transpose(), speed, limit))
-        continue;
-      sum += learning::chatter_probability(t.axial_depth_m, limit_or_infinity(limit[0]), verdict);
-      if (family_hz && limit[0].limited)
-        family_hz->push_back(learning::nearest_chatter_family_hz(
-            t.chatter_frequency_hz, limit[0].chatter_frequency_hz,
-            model.teeth() * t.spindle_rad_s / (2.0 * std::numbers::pi)));
-    }
-    return count ? sum / count : 0.0;
-  };
   for (std::size_t k = 0; k < resolved.used.size(); ++k) {
     const job::Experiment& t = resolved.used[k];
     const std::size_t i = resolved.index[k];
     LearnedExperiment e{
         i, t.line, t.spindle_rad_s, t.axial_depth_m, t.chatter, t.chatter_frequency_hz};
     e.from_recording = resolved.from_recording[k];
-    e.p_chatter_prior = predictive(prior_draws.values, t, nullptr);
+    e.p_chatter_prior = mean_of(predicted_chatter(model, prior_draws.values, t, verdict));
     std::vector<double> family;
     e.p_chatter_posterior =
-        predictive(result.posterior_values, t, t.chatter_frequency_hz > 0.0 ? &family : nullptr);
+        mean_of(predicted_chatter(model, result.posterior_values, t, verdict,
+                                  t.chatter_frequency_hz > 0.0 ? &family : nullptr));
     if (!family.empty())
       e.predicted_chatter_frequency_hz = uncertainty::empirical_quantile(family, 0.5).value;
     const double p_verdict = t.chatter ? e.p_chatter_prior : 1.0 - e.p_chatter_prior;
