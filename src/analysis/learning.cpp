@@ -46,21 +46,26 @@ learning::VerdictModel verdict_model(const LearnSettings& s) {
   return {s.verdict_sd_m, s.verdict_relative_sd, s.mislabel};
 }
 
-/// The experiments as the likelihood reads them: each one's speed in a list
-/// of distinct speeds, so a sample solves each speed once.
+/// The experiments as the likelihood reads them: each one's place (a
+/// robot's posture) and its speed in that place's list of distinct speeds,
+/// so a sample solves each place and speed once.
 struct Evidence {
   std::vector<job::Experiment> tests;
-  std::vector<double> speeds_rad_s;
-  std::vector<std::size_t> speed_of;  ///< per test
+  std::vector<int> place_of;                      ///< per test
+  std::vector<std::size_t> speed_of;              ///< per test, in its place's list
+  std::vector<std::vector<double>> speeds_rad_s;  ///< per place of the model
 };
 
-Evidence evidence_of(const std::vector<job::Experiment>& tests) {
-  Evidence e{tests, {}, {}};
+Evidence evidence_of(const LearningModel& model, const std::vector<job::Experiment>& tests) {
+  Evidence e{tests, {}, {}, std::vector<std::vector<double>>(model.places().size())};
   for (const job::Experiment& t : tests) {
-    const auto it = std::find(e.speeds_rad_s.begin(), e.speeds_rad_s.end(), t.spindle_rad_s);
-    e.speed_of.push_back(static_cast<std::size_t>(it - e.speeds_rad_s.begin()));
-    if (it == e.speeds_rad_s.end())
-      e.speeds_rad_s.push_back(t.spindle_rad_s);
+    const int place = model.place_of(t.posture_rad);
+    std::vector<double>& speeds = e.speeds_rad_s[static_cast<std::size_t>(place)];
+    const auto it = std::find(speeds.begin(), speeds.end(), t.spindle_rad_s);
+    e.place_of.push_back(place);
+    e.speed_of.push_back(static_cast<std::size_t>(it - speeds.begin()));
+    if (it == speeds.end())
+      speeds.push_back(t.spindle_rad_s);
   }
   return e;
 }
@@ -78,13 +83,18 @@ learning::LogLikelihoodParts log_likelihood(const LearningModel& model, const Ev
   learning::LogLikelihoodParts parts;
   if (evidence.tests.empty())
     return parts;
-  std::vector<stability::ZeroOrderLimit> limits(evidence.speeds_rad_s.size());
-  if (!model.limits(x, evidence.speeds_rad_s, limits))
-    return {-kInfinity, -kInfinity};
+  std::vector<std::vector<stability::ZeroOrderLimit>> limits(evidence.speeds_rad_s.size());
+  for (std::size_t place = 0; place < limits.size(); ++place) {
+    const std::vector<double>& speeds = evidence.speeds_rad_s[place];
+    limits[place].resize(speeds.size());
+    if (!speeds.empty() && !model.limits(x, static_cast<int>(place), speeds, limits[place]))
+      return {-kInfinity, -kInfinity};
+  }
   const learning::VerdictModel verdict = verdict_model(settings);
   for (std::size_t i = 0; i < evidence.tests.size(); ++i) {
     const job::Experiment& t = evidence.tests[i];
-    const stability::ZeroOrderLimit& l = limits[evidence.speed_of[i]];
+    const stability::ZeroOrderLimit& l =
+        limits[static_cast<std::size_t>(evidence.place_of[i])][evidence.speed_of[i]];
     double term =
         learning::log_verdict_likelihood(t.chatter, t.axial_depth_m, limit_or_infinity(l), verdict);
     if (t.chatter && t.chatter_frequency_hz > 0.0 && l.limited) {
@@ -142,7 +152,7 @@ Eigen::MatrixXd values_of(const LearningModel& model, const Eigen::MatrixXd& w) 
 /// limits, then stability's summary (quantile lobes, P(chatter) map).
 StabilityBand band_of(const LearningModel& model, const job::Job& job,
                       const Eigen::MatrixXd& values, const std::string& source,
-                      const std::vector<double>& speeds, int threads) {
+                      const std::vector<double>& speeds, int threads, int place = 0) {
   StabilityBand band;
   band.draws = {model.names(), values, source};
   band.speeds_rad_s = speeds;
@@ -156,7 +166,7 @@ StabilityBand band_of(const LearningModel& model, const job::Job& job,
         std::vector<stability::ZeroOrderLimit> limits(speeds.size());
         for (std::size_t i = begin; i < end; ++i) {
           const auto row = static_cast<Eigen::Index>(i);
-          if (!model.limits(values.row(row).transpose(), speeds, limits)) {
+          if (!model.limits(values.row(row).transpose(), place, speeds, limits)) {
             refused[i] = 1;
             continue;
           }
@@ -184,7 +194,7 @@ StabilityBand band_of(const LearningModel& model, const job::Job& job,
                                  source, i, text));
   }
   std::vector<stability::ZeroOrderLimit> nominal(speeds.size());
-  model.limits(model.nominal_values(), speeds, nominal);
+  model.limits(model.nominal_values(), place, speeds, nominal);
   for (const auto& l : nominal)
     band.nominal_limit_m.push_back(
         std::min(l.limited ? l.depth_limit_m : kInfinity, job.stability->depth_max_m));
@@ -192,11 +202,15 @@ StabilityBand band_of(const LearningModel& model, const job::Job& job,
   return band;
 }
 
-double mean_spread_m(const StabilityBand& band) {
+/// The mean over the speeds and the bands of the 5-95 % width.
+double mean_spread_m(const std::vector<const StabilityBand*>& bands) {
   double sum = 0.0;
-  for (std::size_t s = 0; s < band.speeds_rad_s.size(); ++s)
-    sum += band.q95_m[s].value - band.q05_m[s].value;
-  return band.speeds_rad_s.empty() ? 0.0 : sum / static_cast<double>(band.speeds_rad_s.size());
+  std::size_t count = 0;
+  for (const StabilityBand* band : bands) {
+    for (std::size_t s = 0; s < band->speeds_rad_s.size(); ++s, ++count)
+      sum += band->q95_m[s].value - band->q05_m[s].value;
+  }
+  return count == 0 ? 0.0 : sum / static_cast<double>(count);
 }
 
 VariableSummary prior_summary(const uncertainty::Distribution& d) {
@@ -321,8 +335,8 @@ Candidate candidate_at(const StabilityBand& band, Eigen::Index speed, double dep
 
 /// The next test by `strategy` ("information" or "productivity") among the
 /// band's speeds × depths with P(chatter) ≤ max_risk.
-NextTest choose_test(const job::Job& job, const StabilityBand& band, const LearnSettings& settings,
-                     const std::string& strategy, int threads) {
+NextTest choose_test_at(const job::Job& job, const StabilityBand& band,
+                        const LearnSettings& settings, const std::string& strategy, int threads) {
   const learning::VerdictModel verdict = verdict_model(settings);
   const Eigen::Index stride = std::max<Eigen::Index>(1, band.limits_m.rows() / kSelectionSamples);
   const cutting::MillingProcess& process = *job.process;
@@ -357,6 +371,24 @@ NextTest choose_test(const job::Job& job, const StabilityBand& band, const Learn
     if (better)
       chosen = t;
   }
+  return chosen;
+}
+
+/// The next test over every place's posterior band (the first place's, then
+/// a robot's others).
+NextTest choose_test(const job::Job& job, const LearningResult& result,
+                     const LearnSettings& settings, const std::string& strategy, int threads) {
+  NextTest chosen = choose_test_at(job, result.posterior_band, settings, strategy, threads);
+  for (std::size_t p = 0; p < result.more_places.size(); ++p) {
+    NextTest t = choose_test_at(job, result.more_places[p].posterior, settings, strategy, threads);
+    t.place = static_cast<int>(p) + 1;
+    const bool better =
+        t.found && (!chosen.found ||
+                    (strategy == "information" ? t.information_bits > chosen.information_bits
+                                               : t.removal_rate_m3_s > chosen.removal_rate_m3_s));
+    if (better)
+      chosen = t;
+  }
   if (!chosen.found)
     chosen.reason = fmt::format(
         "no candidate in stability.speeds × depths up to stability.depth_max has P(chatter) ≤ "
@@ -377,7 +409,7 @@ std::vector<double> predicted_chatter(const LearningModel& model, const Eigen::M
   std::vector<stability::ZeroOrderLimit> limit(1);
   std::vector<double> p;
   for (Eigen::Index i = 0; i < values.rows(); i += stride) {
-    if (!model.limits(values.row(i).transpose(), speed, limit))
+    if (!model.limits(values.row(i).transpose(), model.place_of(test.posture_rad), speed, limit))
       continue;
     p.push_back(
         learning::chatter_probability(test.axial_depth_m, limit_or_infinity(limit[0]), verdict));
@@ -413,9 +445,14 @@ std::string switching_choice(const LearningModel& model, const job::Job& job,
   if (tests.size() < 2)
     return "fewer than two tests: information";
   const Eigen::MatrixXd before = values_of(model, posteriors.without_latest.particles);
-  const StabilityBand band =
-      band_of(model, job, before, "posterior without the latest test", speeds, threads);
-  result.spread_before_last_m = mean_spread_m(band);
+  std::vector<StabilityBand> bands;
+  for (std::size_t p = 0; p < model.places().size(); ++p)
+    bands.push_back(band_of(model, job, before, "posterior without the latest test", speeds,
+                            threads, static_cast<int>(p)));
+  std::vector<const StabilityBand*> at;
+  for (const StabilityBand& b : bands)
+    at.push_back(&b);
+  result.spread_before_last_m = mean_spread_m(at);
   const double shrink = 1.0 - result.posterior_spread_m / result.spread_before_last_m;
   const double taught = learning::expected_information_bits(
       predicted_chatter(model, before, tests.back(), verdict_model(settings)));
@@ -448,7 +485,7 @@ LearningResult learn(const job::Job& job, int threads) {
 
   const ResolvedTests resolved = resolve_tests(job, threads, result.warnings);
   result.skipped = resolved.skipped;
-  const Evidence evidence = evidence_of(resolved.used);
+  const Evidence evidence = evidence_of(model, resolved.used);
   const Posteriors posteriors = sample(model, evidence, settings, threads);
   result.sampler = posteriors.all;
   result.posterior_values = values_of(model, result.sampler.particles);
@@ -460,8 +497,22 @@ LearningResult learn(const job::Job& job, int threads) {
   result.prior_band = band_of(model, job, prior_draws.values, prior_draws.source, speeds, threads);
   result.posterior_band =
       band_of(model, job, result.posterior_values, "posterior", speeds, threads);
-  result.prior_spread_m = mean_spread_m(result.prior_band);
-  result.posterior_spread_m = mean_spread_m(result.posterior_band);
+  result.places_rad = model.places();
+  for (std::size_t p = 1; p < model.places().size(); ++p) {
+    const int place = static_cast<int>(p);
+    result.more_places.push_back(
+        {model.places()[p],
+         band_of(model, job, prior_draws.values, prior_draws.source, speeds, threads, place),
+         band_of(model, job, result.posterior_values, "posterior", speeds, threads, place)});
+  }
+  std::vector<const StabilityBand*> priors = {&result.prior_band},
+                                    posteriors_at = {&result.posterior_band};
+  for (const PlaceBands& p : result.more_places) {
+    priors.push_back(&p.prior);
+    posteriors_at.push_back(&p.posterior);
+  }
+  result.prior_spread_m = mean_spread_m(priors);
+  result.posterior_spread_m = mean_spread_m(posteriors_at);
   result.spread_before_last_m = std::numeric_limits<double>::quiet_NaN();
 
   for (int j = 0; j < model.dimension(); ++j) {
@@ -478,6 +529,7 @@ LearningResult learn(const job::Job& job, int threads) {
     LearnedExperiment e{
         i, t.line, t.spindle_rad_s, t.axial_depth_m, t.chatter, t.chatter_frequency_hz};
     e.from_recording = resolved.from_recording[k];
+    e.place = model.place_of(t.posture_rad);
     e.p_chatter_prior = mean_of(predicted_chatter(model, prior_draws.values, t, verdict));
     std::vector<double> family;
     e.p_chatter_posterior =
@@ -502,7 +554,7 @@ LearningResult learn(const job::Job& job, int threads) {
   if (settings.strategy == LearnSettings::Strategy::switching)
     reason = switching_choice(model, job, resolved.used, posteriors, speeds, settings, threads,
                               result, strategy);
-  result.next = choose_test(job, result.posterior_band, settings, strategy, threads);
+  result.next = choose_test(job, result, settings, strategy, threads);
   if (result.next.reason.empty())
     result.next.reason = reason;
   result.elapsed_s =

@@ -2,13 +2,18 @@
 
 #include <fmt/format.h>
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
 
 #include "robomill/analysis/job_draws.hpp"
+#include "robomill/analysis/structure.hpp"
 #include "robomill/core/error.hpp"
+#include "robomill/robot/joint_dynamics.hpp"
+#include "robomill/robot/kinematics.hpp"
+#include "robomill/robot/robot_model.hpp"
 #include "robomill/tool/tool.hpp"
 #include "robomill/uncertainty/draws.hpp"
 
@@ -59,14 +64,20 @@ LearningModel::LearningModel(const job::Job& job) {
     throw InputError("uncertainty.posterior", u.posterior_line,
                      "learn starts from the prior and every experiment: remove "
                      "uncertainty.posterior (give the variables' distributions)");
-  if (job.dynamics_source != job::Job::DynamicsSource::table || job.modes.empty())
+  const bool from_robot = job.dynamics_source == job::Job::DynamicsSource::robot;
+  if (!from_robot && (job.dynamics_source != job::Job::DynamicsSource::table || job.modes.empty()))
     throw InputError("dynamics", 0,
-                     "learn works on the modal table (dynamics.modes) in this version; "
-                     "measured FRFs, fitted modes and a robot's modes are not yet learned");
+                     "learn works on the modal table (dynamics.modes) or a robot's modes "
+                     "(dynamics.from_robot) in this version; measured FRFs and fitted modes are "
+                     "not yet learned");
   const auto* law = std::get_if<cutting::LinearLaw>(&*job.cutting);
   if (!law)
     throw InputError("cutting.law", 0, "learn needs the linear law (law: linear)");
-  nominal_ = {*law, job.modes};
+  nominal_ = {*law, job.modes, Eigen::VectorXd(), 0.0};
+  if (from_robot)
+    set_up_robot(job);
+  else
+    places_ = {{}};
   teeth_ = job.tool->teeth;
   double deepest = job.stability->depth_max_m;
   for (const job::Experiment& e : job.experiments)
@@ -95,16 +106,23 @@ LearningModel::LearningModel(const job::Job& job) {
       std::string field;
       if (coefficient != coefficients.end()) {
         setter.field = coefficient->second;
-      } else if (parse_mode_path(t.path, row, field) && row < static_cast<int>(job.modes.size()) &&
+      } else if (from_robot && t.path.starts_with("robot.joint_stiffness[")) {
+        setter.field = F::joint_stiffness;
+        setter.mode = std::stoi(t.path.substr(std::string("robot.joint_stiffness[").size()));
+      } else if (from_robot && t.path == "robot.damping_ratio") {
+        setter.field = F::robot_damping;
+      } else if (!from_robot && parse_mode_path(t.path, row, field) &&
+                 row < static_cast<int>(job.modes.size()) &&
                  (field == "fn" || field == "zeta" || field == "k")) {
         setter.mode = row;
         setter.field = field == "fn" ? F::fn : field == "zeta" ? F::zeta : F::k;
       } else {
         throw InputError(fmt::format("uncertainty.variables[{}].path", j), t.line,
                          fmt::format("'{}' (variable '{}'): learn varies the linear law's "
-                                     "coefficients (cutting.Ktc, Krc, Kac, Kte, Kre, Kae) and the "
-                                     "modal table's fn, zeta and k (dynamics.modes[i].fn ...) in "
-                                     "this version",
+                                     "coefficients (cutting.Ktc, Krc, Kac, Kte, Kre, Kae), the "
+                                     "modal table's fn, zeta and k (dynamics.modes[i].fn ...) or "
+                                     "a robot's robot.joint_stiffness and robot.damping_ratio "
+                                     "(with dynamics.from_robot) in this version",
                                      t.path, v.name));
       }
       setters_.push_back(setter);
@@ -113,6 +131,86 @@ LearningModel::LearningModel(const job::Job& job) {
   if (u.correlation)
     correlation_factor_ = uncertainty::correlation_factor(*u.correlation, dimension());
   check_against_the_job(job);
+}
+
+void LearningModel::set_up_robot(const job::Job& job) {
+  if (!job.robot || job.robot->posture_rad.empty())
+    throw InputError("robot.posture", 0,
+                     "learn with dynamics.from_robot needs robot.posture (the experiments' "
+                     "posture where they give none)");
+  const robot::RobotDescription& d = job.robot->description;
+  nominal_.joint_stiffness.resize(static_cast<Eigen::Index>(d.joints.size()));
+  for (std::size_t j = 0; j < d.joints.size(); ++j) {
+    if (d.joints[j].damping_nms_per_rad != robot::kDeriveDamping)
+      throw InputError("robot.joints", 0,
+                       "learn takes a robot's damping as one modal damping ratio "
+                       "(robot.damping_ratio): remove the joints' own damping");
+    nominal_.joint_stiffness(static_cast<Eigen::Index>(j)) = d.joints[j].stiffness_nm_per_rad;
+  }
+  nominal_.robot_damping_ratio = d.modal_damping_ratio;
+  const auto add = [&](const std::vector<double>& posture) {
+    if (std::find(places_.begin(), places_.end(), posture) == places_.end())
+      places_.push_back(posture);
+  };
+  add(job.robot->posture_rad);
+  for (const job::Experiment& e : job.experiments)
+    if (!e.posture_rad.empty())
+      add(e.posture_rad);
+  if (job.learn)
+    for (const std::vector<double>& place : job.learn->places_rad)
+      add(place);
+  try {
+    const robot::RobotModel model(d);
+    for (const std::vector<double>& posture : places_) {
+      const Eigen::VectorXd q = Eigen::Map<const Eigen::VectorXd>(
+          posture.data(), static_cast<Eigen::Index>(posture.size()));
+      // The modes along the tool's own axes, as analysis::structure_modes.
+      const Eigen::Matrix3d to_tool = robot::tool_pose(model, q).linear().transpose();
+      robot_places_.push_back(
+          {robot::mass_matrix(model, q), to_tool * robot::tool_jacobian(model, q).topRows<3>()});
+    }
+  } catch (const std::invalid_argument& error) {
+    throw InputError("robot", 0, error.what());
+  }
+}
+
+int LearningModel::place_of(const std::vector<double>& posture_rad) const {
+  if (posture_rad.empty())
+    return 0;
+  const auto it = std::find(places_.begin(), places_.end(), posture_rad);
+  if (it == places_.end())
+    throw std::invalid_argument("LearningModel::place_of: not one of the places");
+  return static_cast<int>(it - places_.begin());
+}
+
+bool LearningModel::modes_at(const Structure& structure, int place,
+                             std::vector<dynamics::Mode>& modes) const {
+  modes.clear();
+  if (robot_places_.empty()) {
+    for (const job::ModeSpec& spec : structure.modes) {
+      // As job::modal_model: the mass-normalized shape e ωn/√k.
+      const double omega = 2.0 * std::numbers::pi * spec.natural_frequency_hz;
+      modes.push_back({spec.natural_frequency_hz, spec.damping_ratio,
+                       spec.direction_vector * (omega / std::sqrt(spec.stiffness_n_per_m))});
+    }
+    return true;
+  }
+  // K φ = ω² M φ with Φᵀ M Φ = I (robot::robot_modes), every mode damped by
+  // the modal ratio; the tip's shape R Jv φ.
+  const RobotPlace& at = robot_places_[static_cast<std::size_t>(place)];
+  const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> solver(
+      Eigen::MatrixXd(structure.joint_stiffness.asDiagonal()), at.mass,
+      Eigen::ComputeEigenvectors | Eigen::Ax_lBx);
+  if (solver.info() != Eigen::Success)
+    return false;
+  for (Eigen::Index i = 0; i < solver.eigenvalues().size(); ++i) {
+    const double omega2 = solver.eigenvalues()(i);
+    if (!(omega2 > 0.0))
+      return false;
+    modes.push_back({std::sqrt(omega2) / (2.0 * std::numbers::pi), structure.robot_damping_ratio,
+                     at.tip_jacobian * solver.eigenvectors().col(i)});
+  }
+  return true;
 }
 
 Eigen::VectorXd LearningModel::values_of(const Eigen::VectorXd& w) const {
@@ -169,11 +267,21 @@ bool LearningModel::apply(const Eigen::VectorXd& x, Structure& out) const {
       case F::k:
         out.modes[static_cast<std::size_t>(s.mode)].stiffness_n_per_m = value;
         break;
+      case F::joint_stiffness:
+        out.joint_stiffness(s.mode) = value;
+        break;
+      case F::robot_damping:
+        out.robot_damping_ratio = value;
+        break;
     }
   }
   const cutting::LinearLaw& l = out.law;
   if (l.Ktc_pa < 0.0 || l.Krc_pa < 0.0 || l.Kac_pa < 0.0 || l.Kte_n_per_m < 0.0 ||
       l.Kre_n_per_m < 0.0 || l.Kae_n_per_m < 0.0)
+    return false;
+  if (!robot_places_.empty() &&
+      (!(out.joint_stiffness.minCoeff() > 0.0) || !(out.robot_damping_ratio > 0.0) ||
+       !(out.robot_damping_ratio < 1.0)))
     return false;
   return std::all_of(out.modes.begin(), out.modes.end(), [](const job::ModeSpec& m) {
     return m.natural_frequency_hz > 0.0 && m.damping_ratio > 0.0 && m.damping_ratio < 1.0 &&
@@ -181,19 +289,15 @@ bool LearningModel::apply(const Eigen::VectorXd& x, Structure& out) const {
   });
 }
 
-bool LearningModel::limits(const Eigen::VectorXd& x, std::span<const double> speeds_rad_s,
+bool LearningModel::limits(const Eigen::VectorXd& x, int place,
+                           std::span<const double> speeds_rad_s,
                            std::span<stability::ZeroOrderLimit> out) const {
   Structure structure;
   if (!apply(x, structure))
     return false;
   std::vector<dynamics::Mode> modes;
-  modes.reserve(structure.modes.size());
-  for (const job::ModeSpec& spec : structure.modes) {
-    // As job::modal_model: the mass-normalized shape e ωn/√k.
-    const double omega = 2.0 * std::numbers::pi * spec.natural_frequency_hz;
-    modes.push_back({spec.natural_frequency_hz, spec.damping_ratio,
-                     spec.direction_vector * (omega / std::sqrt(spec.stiffness_n_per_m))});
-  }
+  if (!modes_at(structure, place, modes))
+    return false;
   // The grid only has to find each crossing (the limit is refined on the
   // exact eigenvalues): 40 points per peak and 100 elsewhere give the full
   // grid's limits (150 and 1500 points) to 1e-11 at all but 1 of 60 000
@@ -233,6 +337,22 @@ void LearningModel::check_against_the_job(const job::Job& job) const {
       same = close(drawn.modes[m].natural_frequency_hz, mine.modes[m].natural_frequency_hz) &&
              close(drawn.modes[m].damping_ratio, mine.modes[m].damping_ratio) &&
              close(drawn.modes[m].stiffness_n_per_m, mine.modes[m].stiffness_n_per_m);
+    }
+    if (same && !robot_places_.empty()) {
+      // The robot's modes at robot.posture, as every analysis builds them.
+      const dynamics::ModalModel reread = structure_modes(drawn);
+      const std::vector<dynamics::Mode>& theirs = reread.modes();
+      std::vector<dynamics::Mode> modes;
+      same = modes_at(mine, 0, modes) && modes.size() == theirs.size();
+      const auto near = [](double a, double b) {
+        return std::abs(a - b) <= 1e-6 * std::max(std::abs(a), std::abs(b)) + 1e-12;
+      };
+      for (std::size_t m = 0; same && m < modes.size(); ++m) {
+        same = near(modes[m].natural_frequency_hz, theirs[m].natural_frequency_hz) &&
+               near(modes[m].damping_ratio, theirs[m].damping_ratio) &&
+               near(modes[m].shape.norm(), theirs[m].shape.norm()) &&
+               near(std::abs(modes[m].shape.dot(theirs[m].shape)), modes[m].shape.squaredNorm());
+      }
     }
     if (!same)
       throw InputError("uncertainty", job.uncertainty->line,

@@ -5,8 +5,10 @@
 // `stability` writes a band), lobes_quantiles_prior.csv and experiments.csv.
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <cmath>
+#include <numbers>
 
 #include "band_outputs.hpp"
 #include "robomill/analysis/learning.hpp"
@@ -26,17 +28,50 @@ nlohmann::json number_or_null(double value) {
   return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
 }
 
-nlohmann::json next_test_json(const analysis::NextTest& t) {
+/// Joint angles in degrees.
+std::vector<double> degrees(const std::vector<double>& radians) {
+  std::vector<double> out;
+  for (const double r : radians)
+    out.push_back(std::round(r * 180.0 / std::numbers::pi * 1e9) / 1e9);  // 1e-9°: no 22.549999…
+  return out;
+}
+
+nlohmann::json next_test_json(const analysis::NextTest& t, const analysis::LearningResult& r) {
   if (!t.found)
     return {{"found", false}, {"strategy", t.strategy}, {"reason", t.reason}};
-  return {{"found", true},
-          {"strategy", t.strategy},
-          {"reason", t.reason},
-          {"spindle_rpm", t.spindle_rad_s * kRpmPerRadS},
-          {"ap_mm", t.depth_m * 1e3},
-          {"p_chatter", t.p_chatter},
-          {"information_bits", t.information_bits},
-          {"mrr_cm3_min", t.removal_rate_m3_s * 1e6 * 60.0}};
+  nlohmann::json next = {{"found", true},
+                         {"strategy", t.strategy},
+                         {"reason", t.reason},
+                         {"spindle_rpm", t.spindle_rad_s * kRpmPerRadS},
+                         {"ap_mm", t.depth_m * 1e3},
+                         {"p_chatter", t.p_chatter},
+                         {"information_bits", t.information_bits},
+                         {"mrr_cm3_min", t.removal_rate_m3_s * 1e6 * 60.0}};
+  if (!r.places_rad.empty() && !r.places_rad.front().empty()) {
+    next["place"] = t.place;
+    next["posture_deg"] = degrees(r.places_rad[static_cast<std::size_t>(t.place)]);
+  }
+  return next;
+}
+
+/// A robot's places: per place and speed the prior's and the posterior's
+/// quantile lobes (places.csv).
+io::CsvTable places_table(const analysis::LearningResult& r) {
+  io::CsvTable table({"place", "spindle_rpm", "prior_q05_mm", "prior_q50_mm", "prior_q95_mm",
+                      "posterior_q05_mm", "posterior_q50_mm", "posterior_q95_mm", "nominal_mm"});
+  const auto add = [&](int place, const analysis::StabilityBand& prior,
+                       const analysis::StabilityBand& posterior) {
+    for (std::size_t s = 0; s < prior.speeds_rad_s.size(); ++s)
+      table.add_row({static_cast<double>(place), prior.speeds_rad_s[s] * kRpmPerRadS,
+                     prior.q05_m[s].value * 1e3, prior.q50_m[s].value * 1e3,
+                     prior.q95_m[s].value * 1e3, posterior.q05_m[s].value * 1e3,
+                     posterior.q50_m[s].value * 1e3, posterior.q95_m[s].value * 1e3,
+                     prior.nominal_limit_m[s] * 1e3});
+  };
+  add(0, r.prior_band, r.posterior_band);
+  for (std::size_t p = 0; p < r.more_places.size(); ++p)
+    add(static_cast<int>(p) + 1, r.more_places[p].prior, r.more_places[p].posterior);
+  return table;
 }
 
 io::CsvTable posterior_table(const analysis::LearningResult& r) {
@@ -53,12 +88,13 @@ io::CsvTable posterior_table(const analysis::LearningResult& r) {
 io::CsvTable experiments_table(const analysis::LearningResult& r) {
   io::CsvTable table({"experiment", "line", "spindle_rpm", "depth_mm", "chatter", "chatter_freq_hz",
                       "predicted_chatter_freq_hz", "p_chatter_prior", "p_chatter_posterior",
-                      "from_recording"});
+                      "from_recording", "place"});
   for (const analysis::LearnedExperiment& e : r.experiments) {
     table.add_row({static_cast<double>(e.index), static_cast<double>(e.line),
                    e.spindle_rad_s * kRpmPerRadS, e.depth_m * 1e3, e.chatter ? 1.0 : 0.0,
                    e.chatter_frequency_hz, e.predicted_chatter_frequency_hz, e.p_chatter_prior,
-                   e.p_chatter_posterior, e.from_recording ? 1.0 : 0.0});
+                   e.p_chatter_posterior, e.from_recording ? 1.0 : 0.0,
+                   static_cast<double>(e.place)});
   }
   return table;
 }
@@ -119,7 +155,7 @@ CommandResult compute_learn(const job::Job& job, int threads) {
       {"command", "learn"},
       {"job", job.source.string()},
       {"variables", variables},
-      {"next_test", next_test_json(r.next)},
+      {"next_test", next_test_json(r.next, r)},
       {"experiments_used", used},
       {"experiments_skipped", skipped},
       {"warnings", r.warnings},
@@ -134,6 +170,13 @@ CommandResult compute_learn(const job::Job& job, int threads) {
   result.tables.emplace_back("chatter_probability", band_probability_table(r.posterior_band));
   result.tables.emplace_back("lobes_quantiles_prior", band_quantiles_table(r.prior_band));
   result.tables.emplace_back("experiments", experiments_table(r));
+  if (!r.places_rad.empty() && !r.places_rad.front().empty()) {
+    nlohmann::json places = nlohmann::json::array();
+    for (std::size_t p = 0; p < r.places_rad.size(); ++p)
+      places.push_back({{"place", p}, {"posture_deg", degrees(r.places_rad[p])}});
+    result.summary["places"] = places;
+    result.tables.emplace_back("places", places_table(r));
+  }
 
   for (const std::string& w : r.warnings)
     result.message += "  warning: " + w + "\n";
@@ -146,13 +189,20 @@ CommandResult compute_learn(const job::Job& job, int threads) {
       r.experiments.size(), r.posterior_values.rows(), r.sampler.stages.size(),
       r.sampler.acceptance, r.sampler.log_evidence, r.elapsed_s, r.prior_spread_m * 1e3,
       r.posterior_spread_m * 1e3);
-  if (r.next.found)
+  if (r.next.found) {
+    std::string where;
+    if (!r.places_rad.empty() && !r.places_rad.front().empty()) {
+      const std::vector<double> posture =
+          degrees(r.places_rad[static_cast<std::size_t>(r.next.place)]);
+      where = fmt::format(" at posture [{:.6g}] deg (place {})", fmt::join(posture, ", "),
+                          r.next.place);
+    }
     result.message += fmt::format(
-        "next test: {:.0f} rpm, ap {:.3f} mm (P(chatter) {:.2f}, {:.3f} bits, {:.2f} cm³/min; "
-        "{})\n",
-        r.next.spindle_rad_s * kRpmPerRadS, r.next.depth_m * 1e3, r.next.p_chatter,
+        "next test: {:.0f} rpm, ap {:.3f} mm{} (P(chatter) {:.2f}, {:.3f} bits, {:.2f} "
+        "cm³/min; {})\n",
+        r.next.spindle_rad_s * kRpmPerRadS, r.next.depth_m * 1e3, where, r.next.p_chatter,
         r.next.information_bits, r.next.removal_rate_m3_s * 1e6 * 60.0, r.next.strategy);
-  else
+  } else
     result.message += "next test: none (" + r.next.reason + ")\n";
   return result;
 }

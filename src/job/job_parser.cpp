@@ -75,6 +75,12 @@ std::vector<Experiment> read_experiments(SectionReader& root, const Job& job) {
     experiment.spindle_rad_s =
         e.quantity("spindle", field(dimensions::angular_speed, kRpm, "rpm", kPositive));
     experiment.axial_depth_m = e.quantity("depth", length_mm());
+    if (e.has("posture")) {
+      if (!job.robot)
+        e.fail("posture", "needs a robot: section (the joint angles of its posture)");
+      experiment.posture_rad = *e.quantities("posture", field(dimensions::angle, kDeg, "deg"),
+                                             job.robot->description.joints.size());
+    }
     if (auto recording = e.section("recording")) {
       experiment.recording =
           detail::read_nested_recording(*recording, job, experiment.spindle_rad_s);

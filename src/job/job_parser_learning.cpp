@@ -32,6 +32,19 @@ void read_learn(SectionReader& root, Job& job) {
       r.quantity_or("chatter_freq_sd", field(dimensions::frequency, 1.0, "Hz", kPositive), 20.0);
   s.spread_shrink =
       r.quantity_or("spread_shrink", dimensionless(kNonNegative, Bound{1.0, false}), 0.05);
+  if (auto places = r.sections("places")) {
+    for (SectionReader& place : *places) {
+      place.allow_schema("learn.places[]");
+      if (!job.robot)
+        place.fail("posture", "needs a robot: section (the joint angles of its posture)");
+      const auto posture = place.quantities("posture", field(dimensions::angle, kDeg, "deg"),
+                                            job.robot->description.joints.size());
+      if (!posture)
+        place.fail("posture", "required: the robot's joint angles there (deg)");
+      s.places_rad.push_back(*posture);
+      place.finish();
+    }
+  }
   r.finish();
   job.learn = s;
 }

@@ -77,6 +77,7 @@ constexpr Section kSections[] = {
   {"recording", "A recorded cut for `robomill listen` (docs/monitoring.md): sound, acceleration, velocity, displacement or force, from a WAV/FLAC/AIFF, MATLAB, CSV or UFF58 file. Needs a spindle speed (`process.spindle`, or `spindle` here) and the teeth (`tool.teeth` or `listen.teeth`). Give `recording` or `recordings`, not both."},
   {"recordings[]", "One of several recorded cuts for `robomill listen`, each judged on its own (a row of recordings.csv); the keys of `recording`, with its own `spindle`, `depth` and `note`."},
   {"learn", "How `robomill learn` (docs/learning.md) turns the experiments into a posterior over the uncertainty: variables (the likelihood's spreads, the sampler) and which test it proposes next."},
+  {"learn.places[]", "A robot posture where `robomill learn` predicts the lobes and may propose the next test."},
   {"listen", "How `robomill listen` judges recordings (docs/monitoring.md): the detector's thresholds, lines set aside, and the spindle range of the advice."},
   {"uncertainty", "The job's uncertain inputs (docs/uncertainty.md, \"From a job\"): variables that set job fields, drawn `samples` times from their distributions (or read from a `posterior` file), each draw validated as a job. Left empty (or `--set uncertainty=null`) it is the nominal job."},
   {"uncertainty.variables[]", "One uncertain input: the job field(s) it sets and its distribution. With `mode: value` the draw is the field's value and the parameters are in the field's unit (bare numbers in the unit the field reads them in, or with a unit of its dimension); with `mode: scale` it is a dimensionless factor (bare numbers) multiplying each field's value. Each family takes only its own parameters."},
@@ -265,6 +266,7 @@ constexpr Field kFields[] = {
   {"experiments[]", "depth", K::quantity, "mm", "> 0", "", "yes", "Axial depth of the test."},
   {"experiments[]", "chatter", K::boolean, "", "", "", "unless recording", "Whether the test chattered."},
   {"experiments[]", "recording", K::map, "", "", "", "", "The test's recording, with the keys of `recording` (its spindle and depth default to the test's): `robomill learn` takes the verdict, the chatter frequency and the measured spindle speed from `listen`'s analysis of it; an \"unknown\" verdict skips the test with a note."},
+  {"experiments[]", "posture", K::quantities, "deg", "one angle per joint", "robot.posture", "", "The robot's joint angles during the test (`robomill learn` with `dynamics.from_robot`): the modes there follow from the learned joint stiffness and damping."},
   {"experiments[]", "chatter_freq", K::quantity, "Hz", "> 0", "", "", "The chatter frequency heard in a test that chattered: `robomill learn` compares it with the nearest predicted family |±fc + k·f_tooth| (learn.chatter_freq_sd)."},
 
   // --- output
@@ -428,6 +430,8 @@ constexpr Field kFields[] = {
   {"learn", "verdict_relative_sd", K::quantity, "", "0 … 1", "5 %", "", "σ_rel of the probit: the model's own error as a fraction of the limit (the zero-order method against the time-domain truth)."},
   {"learn", "mislabel", K::quantity, "", "0 … 0.5", "1 %", "", "The chance that a test's verdict is wrong whatever the model says (a marginal cut called wrong): one contradictory test then weighs a hypothesis down instead of excluding it."},
   {"learn", "chatter_freq_sd", K::quantity, "Hz", "> 0", "20 Hz", "", "Spread of a measured chatter frequency around the nearest predicted family member (the anchor's 20 Hz)."},
+  {"learn", "places", K::list, "", "", "none", "", "Further robot postures where the lobes are predicted and the next test may be proposed: see `learn.places[]`."},
+  {"learn.places[]", "posture", K::quantities, "deg", "one angle per joint", "", "yes", "The robot's joint angles there."},
   {"learn", "spread_shrink", K::quantity, "", "0 … 1", "5 %", "", "switching: the boundary's mean 5-95 % spread must shrink by at least this fraction with the latest test for information to stay the strategy."},
   {"listen", "teeth", K::integer, "", "1 … 1000", "tool.teeth", "unless tool", "Teeth of the cutter (1 for a single insert, a boring bar or turning): the tooth frequency is teeth × spindle frequency."},
   {"listen", "spindle_search", K::quantity, "", "0 … 0.5", "10 %", "", "How far from the commanded spindle speed the signal's spindle comb is searched for (spindle overrides)."},

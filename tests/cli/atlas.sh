@@ -47,7 +47,10 @@ expect 2 "--restart" atlas "$WORK/small.yaml" --set atlas.depth_max=4
 "$ROBOMILL" atlas "$WORK/small.yaml" --set atlas.depth_max=4 --restart --quiet || fail "--restart"
 
 # SIGKILL mid-run, then resume: one row per item, equal to an uninterrupted run.
-job big "[12, 10, 1]" 3 100
+# 400 speeds per item (about 2 s on one thread): long enough that the run is
+# still going when the loop below sees its first commit (at 100 it could end
+# first on an idle machine).
+job big "[12, 10, 1]" 3 400
 cp "$WORK/big.yaml" "$WORK/ref.yaml"
 sed -i "s|store: .*|store: ref.sqlite|" "$WORK/ref.yaml"
 "$ROBOMILL" atlas "$WORK/big.yaml" --threads 1 --quiet &

@@ -224,7 +224,8 @@ learn:
 TEST(JobSchema, ExamplesAndKitchenSinksReadEveryField) {
   schema::CoverageRecorder recorder;
   int parsed = 0;
-  for (const auto& entry : std::filesystem::directory_iterator(kExamples)) {
+  // Every example job, those in examples/listen/ and examples/learn/ too.
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(kExamples)) {
     if (entry.path().extension() != ".yaml")
       continue;
     SCOPED_TRACE(entry.path().filename().string());

@@ -408,6 +408,12 @@ std::vector<ListCase> list_cases() {
   return {
     {"experiments", "003_kr270_process_damping.yaml", {}, "experiments.0.depth=0.3 mm",
      [](const Job& j) { EXPECT_NEAR(j.experiments.at(0).axial_depth_m, 3e-4, 1e-15); }},
+    {"experiments[].posture", "learn/kr270_robot.yaml", {}, "experiments.0.posture.0=5 deg",
+     [](const Job& j) { EXPECT_NEAR(j.experiments.at(0).posture_rad.at(0), 5.0 * std::numbers::pi / 180.0, 1e-15); }},
+    {"learn.places", "learn/kr270_robot.yaml", {}, "learn.places.0.posture=[1, 20, 20, 0, 50, 0]",
+     [](const Job& j) { EXPECT_NEAR(j.learn->places_rad.at(0).at(0), std::numbers::pi / 180.0, 1e-15); }},
+    {"learn.places[].posture", "learn/kr270_robot.yaml", {}, "learn.places.0.posture.1=25 deg",
+     [](const Job& j) { EXPECT_NEAR(j.learn->places_rad.at(0).at(1), 25.0 * std::numbers::pi / 180.0, 1e-15); }},
     {"dynamics.modes", "demo.yaml", {}, "dynamics.modes.0.zeta=2 %",
      [](const Job& j) { EXPECT_NEAR(j.modes.at(0).damping_ratio, 0.02, 1e-15); }},
     // dynamics.frf is a list or a map by direction; this is the list form.

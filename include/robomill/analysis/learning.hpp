@@ -54,6 +54,7 @@ struct LearnedExperiment {
   /// The posterior median of the predicted family member nearest to the
   /// measured chatter frequency (Hz); 0 without a measured one.
   double predicted_chatter_frequency_hz = 0.0;
+  int place = 0;  ///< where it was cut (LearningModel::places(); 0 without a robot)
   /// Whether the verdict, chatter frequency and spindle speed are its
   /// recording's (`listen`'s analysis; spindle_rad_s is then the measured one).
   bool from_recording = false;
@@ -76,6 +77,13 @@ struct NextTest {
   double p_chatter = 0.0;          ///< predicted probability of chatter
   double information_bits = 0.0;   ///< expected information about the boundary
   double removal_rate_m3_s = 0.0;  ///< ap · ae · f_z · N · n
+  int place = 0;                   ///< where (a robot's posture: LearningResult::places)
+};
+
+/// The lobes before and after the tests at one of a robot's places.
+struct PlaceBands {
+  std::vector<double> posture_rad;  ///< the joint angles
+  StabilityBand prior, posterior;
 };
 
 /// Everything `robomill learn` reports.
@@ -85,8 +93,15 @@ struct LearningResult {
   Eigen::MatrixXd posterior_values;  ///< samples × variables (SI or factors)
   std::vector<VariableSummary> prior, posterior;  ///< per variable
   Eigen::MatrixXd posterior_correlation;          ///< variables × variables (Pearson)
+  /// At the first place (robot.posture for a robot; the modal table's
+  /// structure otherwise).
   StabilityBand prior_band, posterior_band;
-  /// The mean over the speeds of the band's 5-95 % width (m): prior, posterior,
+  /// For a robot, every place (postures, rad): robot.posture, the tests'
+  /// postures and learn.places, in that order; the first is the one above.
+  std::vector<std::vector<double>> places_rad;
+  /// The bands at the places after the first.
+  std::vector<PlaceBands> more_places;
+  /// The mean over the speeds (and places) of the band's 5-95 % width (m): prior, posterior,
   /// and the posterior without the latest experiment (NaN when not sampled).
   double prior_spread_m = 0.0, posterior_spread_m = 0.0, spread_before_last_m = 0.0;
   std::vector<LearnedExperiment> experiments;  ///< the ones used

@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "robomill/cutting/cutting_law.hpp"
+#include "robomill/dynamics/modal_model.hpp"
 #include "robomill/job/job.hpp"
 #include "robomill/stability/zero_order.hpp"
 #include "robomill/uncertainty/distribution.hpp"
@@ -55,12 +56,26 @@ class LearningModel {
   /// The job's own values: 1 for a scale variable, the nominal value (SI) otherwise.
   Eigen::VectorXd nominal_values() const;
 
-  /// The limits at `speeds_rad_s` for values x, written to `out` (same
-  /// size). Returns false, writing nothing, when x gives no structure (a
-  /// damping ratio ≥ 1, a non-positive stiffness or frequency, a negative
-  /// coefficient). Thread-safe.
-  bool limits(const Eigen::VectorXd& x, std::span<const double> speeds_rad_s,
+  /// The limits at `speeds_rad_s` for values x at place `place`, written to
+  /// `out` (same size). Returns false, writing nothing, when x gives no
+  /// structure (a damping ratio ≥ 1, a non-positive stiffness or frequency,
+  /// a negative coefficient). Thread-safe.
+  bool limits(const Eigen::VectorXd& x, int place, std::span<const double> speeds_rad_s,
               std::span<stability::ZeroOrderLimit> out) const;
+  /// At the first place (the job's own structure).
+  bool limits(const Eigen::VectorXd& x, std::span<const double> speeds_rad_s,
+              std::span<stability::ZeroOrderLimit> out) const {
+    return limits(x, 0, speeds_rad_s, out);
+  }
+
+  /// Where the structure is known: for a robot (dynamics.from_robot) the
+  /// postures (joint angles, rad) robot.posture, then every experiment's
+  /// posture and learn.places, each once, in that order; otherwise the one
+  /// structure of the modal table (an empty posture).
+  const std::vector<std::vector<double>>& places() const noexcept { return places_; }
+  /// The place of a posture (exactly one of places()); 0 for an empty one.
+  int place_of(const std::vector<double>& posture_rad) const;
+  bool robot() const noexcept { return !robot_places_.empty(); }
 
   int teeth() const noexcept { return teeth_; }
   /// The deepest limit solved for (m): 1.25 × the deeper of
@@ -74,16 +89,40 @@ class LearningModel {
  private:
   /// A field a variable sets.
   struct Setter {
-    enum class Field { ktc, krc, kac, kte, kre, kae, fn, zeta, k } field = Field::ktc;
-    int mode = -1;       ///< the modal table's row for fn, zeta, k
+    enum class Field {
+      ktc,
+      krc,
+      kac,
+      kte,
+      kre,
+      kae,
+      fn,
+      zeta,
+      k,
+      joint_stiffness,
+      robot_damping
+    } field = Field::ktc;
+    int mode = -1;       ///< the modal table's row (fn, zeta, k) or the joint
     int variable = 0;    ///< which value sets it
     double nominal = 0;  ///< the job's value (SI)
     bool scale = false;  ///< value × nominal, else the value itself
   };
   struct Structure {
     cutting::LinearLaw law;
-    std::vector<job::ModeSpec> modes;
+    std::vector<job::ModeSpec> modes;  ///< the modal table
+    Eigen::VectorXd joint_stiffness;   ///< a robot's Kq (N·m/rad)
+    double robot_damping_ratio = 0.0;  ///< a robot's modal damping ratio
   };
+  /// A robot posture's joint-space mass matrix M(q) and the tip's linear
+  /// Jacobian in the tool frame, R·Jv: the modes there follow from Kq alone
+  /// (K φ = ω² M φ, tip shape R Jv φ; joint_dynamics.hpp).
+  struct RobotPlace {
+    Eigen::MatrixXd mass;
+    Eigen::Matrix<double, 3, Eigen::Dynamic> tip_jacobian;
+  };
+  /// The structure's modes at `place` (the modal table, or the robot's).
+  bool modes_at(const Structure& structure, int place, std::vector<dynamics::Mode>& modes) const;
+  void set_up_robot(const job::Job& job);
   /// The law and modes with the values set; false when they are not physical.
   bool apply(const Eigen::VectorXd& x, Structure& out) const;
   void check_against_the_job(const job::Job& job) const;
@@ -92,6 +131,8 @@ class LearningModel {
   std::vector<uncertainty::Distribution> priors_;
   std::optional<Eigen::MatrixXd> correlation_factor_;
   std::vector<Setter> setters_;
+  std::vector<std::vector<double>> places_;
+  std::vector<RobotPlace> robot_places_;
   Structure nominal_;
   stability::MeanCuttingStiffnessBasis basis_;
   int teeth_ = 0;

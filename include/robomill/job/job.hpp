@@ -121,6 +121,8 @@ struct Experiment {
   bool chatter = false;
   /// `chatter_freq`: the chatter line heard (Hz); 0 when not given.
   double chatter_frequency_hz = 0.0;
+  /// `posture`: the robot's joint angles (rad) during the test; empty: robot.posture.
+  std::vector<double> posture_rad;
   /// Whether `chatter` was written; false when only a recording says.
   bool verdict_given = true;
   /// `recording:` the cut's recording (as `recordings[]`): `learn` takes the
@@ -454,7 +456,10 @@ struct LearnSettings {
   double mislabel = 0.01;             ///< `mislabel`: ε, a verdict's chance of being wrong
   double chatter_freq_sd_hz = 20.0;   ///< `chatter_freq_sd`: σ_f (Hz)
   double spread_shrink = 0.05;  ///< `spread_shrink`: switching's least relative shrink per test
-  int line = 0;                 ///< the section's line (0: not written, defaults)
+  /// `places[].posture`: further robot postures (rad) where the lobes are
+  /// predicted and the next test may be proposed.
+  std::vector<std::vector<double>> places_rad;
+  int line = 0;  ///< the section's line (0: not written, defaults)
 };
 
 /// `--set key.path=value`: replaces (or adds) one field before validation.
