@@ -537,7 +537,11 @@ LearningResult learn(const job::Job& job, int threads) {
                                   t.chatter_frequency_hz > 0.0 ? &family : nullptr));
     if (!family.empty())
       e.predicted_chatter_frequency_hz = uncertainty::empirical_quantile(family, 0.5).value;
-    const double p_verdict = t.chatter ? e.p_chatter_prior : 1.0 - e.p_chatter_prior;
+    // The prior's own probability of the verdict, the mislabel chance taken
+    // out: mean P = ε/2 + (1 − ε) mean Φ.
+    const double p_model =
+        (e.p_chatter_prior - 0.5 * settings.mislabel) / (1.0 - settings.mislabel);
+    const double p_verdict = t.chatter ? p_model : 1.0 - p_model;
     if (p_verdict < kSurprise)
       result.warnings.push_back(fmt::format(
           "{}: the prior gives this verdict a probability of {:.2g}: the variables can hardly "

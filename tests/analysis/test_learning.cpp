@@ -122,6 +122,16 @@ TEST(Learning, ContradictoryTestsGiveAProperPosteriorAndAWarningNamingBoth) {
   EXPECT_NE(r.warnings[0].find("experiments[1]"), std::string::npos) << r.warnings[0];
   EXPECT_TRUE(std::isfinite(r.sampler.log_evidence));
   EXPECT_EQ(r.posterior_values.rows(), 400);
+  // A chatter at 0.05 mm: no value the prior allows predicts it (the
+  // lowest limits are some 0.5 mm): a warning naming the test.
+  const std::string beyond = R"(experiments:
+  - {spindle: 9130 rpm, depth: 0.05 mm, chatter: true}
+)";
+  const ra::LearningResult b =
+      ra::learn(job::parse_job(anchor_yaml("zoa", beyond), "b.yaml", {{"learn.samples", "200"}}));
+  ASSERT_EQ(b.warnings.size(), 1u);
+  EXPECT_NE(b.warnings[0].find("experiments[0]"), std::string::npos) << b.warnings[0];
+  EXPECT_NE(b.warnings[0].find("can hardly reach"), std::string::npos) << b.warnings[0];
   EXPECT_TRUE(r.posterior_values.allFinite());
 }
 
