@@ -14,6 +14,7 @@
 #include "robomill/core/constants.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/core/parallel.hpp"
+#include "robomill/cutting/engagement.hpp"
 #include "robomill/job/units.hpp"
 #include "robomill/learning/stability_evidence.hpp"
 #include "robomill/stability/lobes.hpp"
@@ -49,16 +50,39 @@ learning::VerdictModel verdict_model(const LearnSettings& s) {
 /// The experiments as the likelihood reads them: each one's place (a
 /// robot's posture) and its speed in that place's list of distinct speeds,
 /// so a sample solves each place and speed once.
+/// A test's mean spindle power as the linear law gives it: P = Ω T̄,
+/// T̄ = (D/2) N ap/2π ∫(Ktc fz sin φ + Kte) dφ over the engagement
+/// (Altintas, Manufacturing Automation, Eq 2.51's tangential part), linear in
+/// (Ktc, Kte): P = per_ktc Ktc + per_kte Kte.
+struct PowerBasis {
+  double per_ktc = 0.0;  ///< W per (N/m²)
+  double per_kte = 0.0;  ///< W per (N/m)
+};
+
+PowerBasis power_basis(const job::Job& job, const job::Experiment& t) {
+  const cutting::MillingProcess& p = *job.process;
+  const double radius = 0.5 * job.tool->diameter_m;
+  const cutting::Engagement e =
+      cutting::radial_engagement(radius, radius, p.radial_depth_m, p.direction);
+  const double common =
+      t.spindle_rad_s * radius * job.tool->teeth * t.axial_depth_m / (2.0 * std::numbers::pi);
+  return {common * p.feed_per_tooth_m * (std::cos(e.entry_rad) - std::cos(e.exit_rad)),
+          common * (e.exit_rad - e.entry_rad)};
+}
+
 struct Evidence {
   std::vector<job::Experiment> tests;
+  std::vector<PowerBasis> power;                  ///< per test (used where it gives a power)
   std::vector<int> place_of;                      ///< per test
   std::vector<std::size_t> speed_of;              ///< per test, in its place's list
   std::vector<std::vector<double>> speeds_rad_s;  ///< per place of the model
 };
 
-Evidence evidence_of(const LearningModel& model, const std::vector<job::Experiment>& tests) {
-  Evidence e{tests, {}, {}, std::vector<std::vector<double>>(model.places().size())};
+Evidence evidence_of(const LearningModel& model, const job::Job& job,
+                     const std::vector<job::Experiment>& tests) {
+  Evidence e{tests, {}, {}, {}, std::vector<std::vector<double>>(model.places().size())};
   for (const job::Experiment& t : tests) {
+    e.power.push_back(power_basis(job, t));
     const int place = model.place_of(t.posture_rad);
     std::vector<double>& speeds = e.speeds_rad_s[static_cast<std::size_t>(place)];
     const auto it = std::find(speeds.begin(), speeds.end(), t.spindle_rad_s);
@@ -101,6 +125,13 @@ learning::LogLikelihoodParts log_likelihood(const LearningModel& model, const Ev
       const double tooth_hz = model.teeth() * t.spindle_rad_s / (2.0 * std::numbers::pi);
       term += learning::log_chatter_frequency_likelihood(
           t.chatter_frequency_hz, l.chatter_frequency_hz, tooth_hz, settings.chatter_freq_sd_hz);
+    }
+    if (t.power_w > 0.0) {
+      const std::optional<cutting::LinearLaw> law = model.law_of(x);
+      const double predicted =
+          evidence.power[i].per_ktc * law->Ktc_pa + evidence.power[i].per_kte * law->Kte_n_per_m;
+      const double r = (t.power_w - predicted) / settings.power_sd_w;
+      term += -0.5 * r * r - std::log(settings.power_sd_w * std::sqrt(2.0 * std::numbers::pi));
     }
     (i < first_added ? parts.settled : parts.added) += term;
   }
@@ -485,7 +516,7 @@ LearningResult learn(const job::Job& job, int threads) {
 
   const ResolvedTests resolved = resolve_tests(job, threads, result.warnings);
   result.skipped = resolved.skipped;
-  const Evidence evidence = evidence_of(model, resolved.used);
+  const Evidence evidence = evidence_of(model, job, resolved.used);
   const Posteriors posteriors = sample(model, evidence, settings, threads);
   result.sampler = posteriors.all;
   result.posterior_values = values_of(model, result.sampler.particles);
@@ -530,6 +561,17 @@ LearningResult learn(const job::Job& job, int threads) {
         i, t.line, t.spindle_rad_s, t.axial_depth_m, t.chatter, t.chatter_frequency_hz};
     e.from_recording = resolved.from_recording[k];
     e.place = model.place_of(t.posture_rad);
+    if (t.power_w > 0.0) {
+      e.power_w = t.power_w;
+      const PowerBasis basis = evidence.power[k];
+      std::vector<double> power;
+      for (Eigen::Index row = 0; row < result.posterior_values.rows(); ++row) {
+        if (const auto law = model.law_of(result.posterior_values.row(row).transpose()))
+          power.push_back(basis.per_ktc * law->Ktc_pa + basis.per_kte * law->Kte_n_per_m);
+      }
+      if (!power.empty())
+        e.predicted_power_w = uncertainty::empirical_quantile(power, 0.5).value;
+    }
     e.p_chatter_prior = mean_of(predicted_chatter(model, prior_draws.values, t, verdict));
     std::vector<double> family;
     e.p_chatter_posterior =

@@ -223,6 +223,13 @@ Eigen::VectorXd LearningModel::values_of(const Eigen::VectorXd& w) const {
   return x;
 }
 
+std::optional<cutting::LinearLaw> LearningModel::law_of(const Eigen::VectorXd& x) const {
+  Structure structure;
+  if (!apply(x, structure))
+    return std::nullopt;
+  return structure.law;
+}
+
 Eigen::VectorXd LearningModel::nominal_values() const {
   Eigen::VectorXd x = Eigen::VectorXd::Ones(dimension());
   for (const Setter& s : setters_) {

@@ -88,13 +88,13 @@ io::CsvTable posterior_table(const analysis::LearningResult& r) {
 io::CsvTable experiments_table(const analysis::LearningResult& r) {
   io::CsvTable table({"experiment", "line", "spindle_rpm", "depth_mm", "chatter", "chatter_freq_hz",
                       "predicted_chatter_freq_hz", "p_chatter_prior", "p_chatter_posterior",
-                      "from_recording", "place"});
+                      "from_recording", "place", "power_w", "predicted_power_w"});
   for (const analysis::LearnedExperiment& e : r.experiments) {
     table.add_row({static_cast<double>(e.index), static_cast<double>(e.line),
                    e.spindle_rad_s * kRpmPerRadS, e.depth_m * 1e3, e.chatter ? 1.0 : 0.0,
                    e.chatter_frequency_hz, e.predicted_chatter_frequency_hz, e.p_chatter_prior,
                    e.p_chatter_posterior, e.from_recording ? 1.0 : 0.0,
-                   static_cast<double>(e.place)});
+                   static_cast<double>(e.place), e.power_w, e.predicted_power_w});
   }
   return table;
 }

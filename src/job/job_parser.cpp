@@ -94,6 +94,7 @@ std::vector<Experiment> read_experiments(SectionReader& root, const Job& job) {
       e.fail("chatter", "required: true or false (or a recording: whose verdict says)");
     experiment.chatter_frequency_hz =
         e.quantity_or("chatter_freq", field(dimensions::frequency, 1.0, "Hz", kPositive), 0.0);
+    experiment.power_w = e.quantity_or("power", field(dimensions::power, 1.0, "W", kPositive), 0.0);
     if (experiment.chatter_frequency_hz > 0.0 && !experiment.chatter)
       e.fail("chatter_freq", "is given for a test that did not chatter (chatter: false)");
     e.finish();

@@ -30,6 +30,7 @@ void read_learn(SectionReader& root, Job& job) {
   s.mislabel = r.quantity_or("mislabel", dimensionless(kNonNegative, Bound{0.5, false}), 0.01);
   s.chatter_freq_sd_hz =
       r.quantity_or("chatter_freq_sd", field(dimensions::frequency, 1.0, "Hz", kPositive), 20.0);
+  s.power_sd_w = r.quantity_or("power_sd", field(dimensions::power, 1.0, "W", kPositive), 20.0);
   s.spread_shrink =
       r.quantity_or("spread_shrink", dimensionless(kNonNegative, Bound{1.0, false}), 0.05);
   if (auto places = r.sections("places")) {

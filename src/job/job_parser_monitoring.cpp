@@ -160,8 +160,7 @@ ListenSettings read_listen(SectionReader& r) {
 
 }  // namespace
 
-io::RecordingSpec read_nested_recording(SectionReader& r, const Job& job,
-                                        double spindle_rad_s) {
+io::RecordingSpec read_nested_recording(SectionReader& r, const Job& job, double spindle_rad_s) {
   return read_recording(r, job, false, spindle_rad_s);
 }
 

@@ -266,6 +266,7 @@ constexpr Field kFields[] = {
   {"experiments[]", "depth", K::quantity, "mm", "> 0", "", "yes", "Axial depth of the test."},
   {"experiments[]", "chatter", K::boolean, "", "", "", "unless recording", "Whether the test chattered."},
   {"experiments[]", "recording", K::map, "", "", "", "", "The test's recording, with the keys of `recording` (its spindle and depth default to the test's): `robomill learn` takes the verdict, the chatter frequency and the measured spindle speed from `listen`'s analysis of it; an \"unknown\" verdict skips the test with a note."},
+  {"experiments[]", "power", K::quantity, "W", "> 0", "", "", "The spindle's cutting power during the test (above its idle power): `robomill learn` compares it with the linear law's mean power Ω·(D/2)·N·ap/2π·(fz·Ktc·∫sinφ dφ + Kte·∫dφ) over the engagement (learn.power_sd)."},
   {"experiments[]", "posture", K::quantities, "deg", "one angle per joint", "robot.posture", "", "The robot's joint angles during the test (`robomill learn` with `dynamics.from_robot`): the modes there follow from the learned joint stiffness and damping."},
   {"experiments[]", "chatter_freq", K::quantity, "Hz", "> 0", "", "", "The chatter frequency heard in a test that chattered: `robomill learn` compares it with the nearest predicted family |±fc + k·f_tooth| (learn.chatter_freq_sd)."},
 
@@ -432,6 +433,7 @@ constexpr Field kFields[] = {
   {"learn", "chatter_freq_sd", K::quantity, "Hz", "> 0", "20 Hz", "", "Spread of a measured chatter frequency around the nearest predicted family member (the anchor's 20 Hz)."},
   {"learn", "places", K::list, "", "", "none", "", "Further robot postures where the lobes are predicted and the next test may be proposed: see `learn.places[]`."},
   {"learn.places[]", "posture", K::quantities, "deg", "one angle per joint", "", "yes", "The robot's joint angles there."},
+  {"learn", "power_sd", K::quantity, "W", "> 0", "20 W", "", "Spread of a measured spindle power around the force model's mean power (the anchor's SpindlePowerUncertainty)."},
   {"learn", "spread_shrink", K::quantity, "", "0 … 1", "5 %", "", "switching: the boundary's mean 5-95 % spread must shrink by at least this fraction with the latest test for information to stay the strategy."},
   {"listen", "teeth", K::integer, "", "1 … 1000", "tool.teeth", "unless tool", "Teeth of the cutter (1 for a single insert, a boring bar or turning): the tooth frequency is teeth × spindle frequency."},
   {"listen", "spindle_search", K::quantity, "", "0 … 0.5", "10 %", "", "How far from the commanded spindle speed the signal's spindle comb is searched for (spindle overrides)."},

@@ -198,6 +198,64 @@ TEST(Learning, RecordingsGiveTheVerdictsAndAnUnknownOneIsSkipped) {
   }
 }
 
+/// Spindle power alone: Ktc and Kte with normal priors, tests whose
+/// verdicts carry no information (stable at 0.3 mm, far below every prior
+/// limit), powers P = a Ktc + b Kte + noise: the posterior is the
+/// linear-Gaussian one in closed form (a rank-1 update along a·Ktc + b·Kte,
+/// since every test has the same ratio b/a at one feed and engagement).
+TEST(Learning, SpindlePowerGivesTheLinearGaussianPosterior) {
+  const std::string text = R"(name: power
+tool: {type: flat, diameter: 12.7 mm, teeth: 3, helix: 0 deg, overhang: 40 mm}
+cutting: {law: linear, Ktc: 556 N/mm^2, Krc: 225 N/mm^2, Kte: 50 N/mm}
+process: {spindle: 8000 rpm, feed_per_tooth: 0.1 mm, ap: 2 mm, ae: 6.35 mm, direction: down}
+dynamics:
+  modes:
+    - {direction: x, fn: 1500 Hz, zeta: 0.03, k: 1.0e7 N/m}
+    - {direction: y, fn: 1500 Hz, zeta: 0.03, k: 1.0e7 N/m}
+stability: {method: zoa, speeds: {from: 4000 rpm, to: 12000 rpm, count: 11}, depth_max: 8 mm, depths: 10}
+uncertainty:
+  variables:
+    - {name: Ktc, path: cutting.Ktc, distribution: normal, mean: 556, sd: 80}
+    - {name: Kte, path: cutting.Kte, distribution: normal, mean: 50, sd: 10}
+learn: {samples: 3000, power_sd: 6 W, seed: 3}
+experiments:
+  - {spindle: 5310 rpm, depth: 0.3 mm, chatter: false, power: 47.3 W}
+  - {spindle: 8870 rpm, depth: 0.3 mm, chatter: false, power: 83.9 W}
+  - {spindle: 11420 rpm, depth: 0.3 mm, chatter: false, power: 101.6 W}
+)";
+  const ra::LearningResult r = ra::learn(job::parse_job(text, "power.yaml"));
+  // P = Ω R N ap/2π (fz Ktc (cos φst − cos φex) + Kte (φex − φst)); 50 % down
+  // milling: φst = π/2, φex = π.
+  const double speeds_rpm[3] = {5310.0, 8870.0, 11420.0}, powers[3] = {47.3, 83.9, 101.6};
+  Eigen::MatrixXd a(3, 2);
+  Eigen::VectorXd y(3);
+  for (int i = 0; i < 3; ++i) {
+    const double common = speeds_rpm[i] / robomill::kRpmPerRadS * 6.35e-3 * 3 * 0.3e-3 / (2 * M_PI);
+    a(i, 0) = common * 0.1e-3 * 1.0;
+    a(i, 1) = common * M_PI / 2;
+    y(i) = powers[i];
+  }
+  const Eigen::Vector2d prior_mean(556e6, 50e3);
+  const Eigen::Matrix2d prior_precision =
+      Eigen::Vector2d(1 / (80e6 * 80e6), 1 / (10e3 * 10e3)).asDiagonal();
+  const Eigen::Matrix2d precision = prior_precision + a.transpose() * a / 36.0;
+  const Eigen::Matrix2d covariance = precision.inverse();
+  const Eigen::Vector2d mean =
+      covariance * (prior_precision * prior_mean + a.transpose() * y / 36.0);
+  for (int j = 0; j < 2; ++j) {
+    const double sd = std::sqrt(covariance(j, j));
+    std::printf("%s: posterior mean %.6g (closed form %.6g), sd %.4g (%.4g)\n", j ? "Kte" : "Ktc",
+                r.posterior[j].mean, mean(j), r.posterior[j].sd, sd);
+    // 3000 samples: the mean within 0.1 sd, the sd within 10 %.
+    EXPECT_NEAR(r.posterior[j].mean, mean(j), 0.1 * sd);
+    EXPECT_NEAR(r.posterior[j].sd, sd, 0.1 * sd);
+  }
+  const double rho = covariance(0, 1) / std::sqrt(covariance(0, 0) * covariance(1, 1));
+  EXPECT_NEAR(r.posterior_correlation(0, 1), rho, 0.1);
+  ASSERT_EQ(r.experiments.size(), 3u);
+  EXPECT_NEAR(r.experiments[1].predicted_power_w, 83.9, 6.0);
+}
+
 /// The examples' KR 270 (examples/learn/kr270_robot.yaml): its main-axis
 /// and wrist joint stiffness factors and its damping factor drawn from the
 /// prior (random points, seed 7: the truth its nine tests were labelled by,

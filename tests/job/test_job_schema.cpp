@@ -203,7 +203,7 @@ dynamics:
     - {direction: x, fn: 2060 Hz, zeta: 2.4 %, k: 8.1e6 N/m}
 cutting: {law: linear, Ktc: 855 N/mm^2, Krc: 290 N/mm^2}
 experiments:
-  - {spindle: 5130 rpm, depth: 1.7 mm, chatter: true, chatter_freq: 2113 Hz}
+  - {spindle: 5130 rpm, depth: 1.7 mm, chatter: true, chatter_freq: 2113 Hz, power: 1.2 kW}
   - {spindle: 5210 rpm, depth: 1.2 mm, recording: {file: listen/displacement_stable.wav}}
 uncertainty:
   variables:
@@ -217,6 +217,7 @@ learn:
   verdict_relative_sd: 4 %
   mislabel: 2 %
   chatter_freq_sd: 15 Hz
+  power_sd: 30 W
   spread_shrink: 3 %
 )",
 };

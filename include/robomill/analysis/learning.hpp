@@ -54,7 +54,9 @@ struct LearnedExperiment {
   /// The posterior median of the predicted family member nearest to the
   /// measured chatter frequency (Hz); 0 without a measured one.
   double predicted_chatter_frequency_hz = 0.0;
-  int place = 0;  ///< where it was cut (LearningModel::places(); 0 without a robot)
+  int place = 0;         ///< where it was cut (LearningModel::places(); 0 without a robot)
+  double power_w = 0.0;  ///< measured spindle power (W); 0: none
+  double predicted_power_w = 0.0;  ///< the posterior median of the law's mean power (W)
   /// Whether the verdict, chatter frequency and spindle speed are its
   /// recording's (`listen`'s analysis; spindle_rad_s is then the measured one).
   bool from_recording = false;

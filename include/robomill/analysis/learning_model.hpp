@@ -53,6 +53,9 @@ class LearningModel {
   /// (z = w for independent variables).
   Eigen::VectorXd values_of(const Eigen::VectorXd& w) const;
 
+  /// The linear law with values x set; nullopt when x gives no structure.
+  std::optional<cutting::LinearLaw> law_of(const Eigen::VectorXd& x) const;
+
   /// The job's own values: 1 for a scale variable, the nominal value (SI) otherwise.
   Eigen::VectorXd nominal_values() const;
 

@@ -121,6 +121,9 @@ struct Experiment {
   bool chatter = false;
   /// `chatter_freq`: the chatter line heard (Hz); 0 when not given.
   double chatter_frequency_hz = 0.0;
+  /// `power`: the spindle's cutting power during the test (W, above its
+  /// idle power); 0 when not given.
+  double power_w = 0.0;
   /// `posture`: the robot's joint angles (rad) during the test; empty: robot.posture.
   std::vector<double> posture_rad;
   /// Whether `chatter` was written; false when only a recording says.
@@ -455,6 +458,7 @@ struct LearnSettings {
   double verdict_relative_sd = 0.05;  ///< `verdict_relative_sd`: σ_rel of the probit
   double mislabel = 0.01;             ///< `mislabel`: ε, a verdict's chance of being wrong
   double chatter_freq_sd_hz = 20.0;   ///< `chatter_freq_sd`: σ_f (Hz)
+  double power_sd_w = 20.0;           ///< `power_sd`: σ_P of a measured power (W)
   double spread_shrink = 0.05;  ///< `spread_shrink`: switching's least relative shrink per test
   /// `places[].posture`: further robot postures (rad) where the lobes are
   /// predicted and the next test may be proposed.

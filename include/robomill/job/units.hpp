@@ -31,6 +31,7 @@ inline constexpr Dimension force_per_length{0, 1, -2, 0};       // N/mm, N/m
 inline constexpr Dimension stiffness{0, 1, -2, 0};              // N/m (same as force per length)
 inline constexpr Dimension force_per_volume{-2, 1, -2, 0};      // N/m^3 (indentation, 000 Eq 18)
 inline constexpr Dimension torque{2, 1, -2, 0};                 // N*m
+inline constexpr Dimension power{2, 1, -3, 0};                  // W (spindle power)
 inline constexpr Dimension rotational_stiffness{2, 1, -2, -1};  // N*m/rad
 inline constexpr Dimension moment_of_inertia{2, 1, 0, 0};       // kg*m^2
 inline constexpr Dimension rotational_damping{2, 1, -1, -1};    // N*m*s/rad
