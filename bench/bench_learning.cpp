@@ -20,17 +20,14 @@
 #include "robomill/analysis/learning.hpp"
 #include "robomill/analysis/learning_model.hpp"
 #include "robomill/job/job.hpp"
+#include "support/anchor_cut.hpp"
 
 namespace {
 
 using namespace robomill;
 
 std::string job_text(const std::string& experiments) {
-  return R"(name: learning benchmark
-tool: {type: flat, diameter: 12.7 mm, teeth: 3, helix: 0 deg, overhang: 40 mm}
-cutting: {law: linear, Ktc: 556 N/mm^2, Krc: 225 N/mm^2, Kte: 50 N/mm}
-process: {spindle: 8000 rpm, feed_per_tooth: 0.1 mm, ap: 2 mm, ae: 6.35 mm, direction: down}
-dynamics:
+  return "name: learning benchmark\n" + test::anchor_cut_yaml() + R"(dynamics:
   modes:
     - {direction: x, fn: 1500 Hz, zeta: 0.03, k: 1.0e7 N/m}
     - {direction: y, fn: 1630 Hz, zeta: 0.025, k: 1.2e7 N/m}

@@ -20,6 +20,7 @@
 #include "robomill/core/error.hpp"
 #include "robomill/job/job.hpp"
 #include "robomill/uncertainty/draws.hpp"
+#include "support/anchor_cut.hpp"
 
 namespace test_learning_cpp {
 
@@ -204,11 +205,7 @@ TEST(Learning, RecordingsGiveTheVerdictsAndAnUnknownOneIsSkipped) {
 /// linear-Gaussian one in closed form (a rank-1 update along a·Ktc + b·Kte,
 /// since every test has the same ratio b/a at one feed and engagement).
 TEST(Learning, SpindlePowerGivesTheLinearGaussianPosterior) {
-  const std::string text = R"(name: power
-tool: {type: flat, diameter: 12.7 mm, teeth: 3, helix: 0 deg, overhang: 40 mm}
-cutting: {law: linear, Ktc: 556 N/mm^2, Krc: 225 N/mm^2, Kte: 50 N/mm}
-process: {spindle: 8000 rpm, feed_per_tooth: 0.1 mm, ap: 2 mm, ae: 6.35 mm, direction: down}
-dynamics:
+  const std::string text = "name: power\n" + robomill::test::anchor_cut_yaml() + R"(dynamics:
   modes:
     - {direction: x, fn: 1500 Hz, zeta: 0.03, k: 1.0e7 N/m}
     - {direction: y, fn: 1500 Hz, zeta: 0.03, k: 1.0e7 N/m}
