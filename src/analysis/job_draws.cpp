@@ -214,6 +214,16 @@ JobDraws draw_job_inputs(const job::Job& job) {
   if (!settings.posterior.empty()) {
     draws.values = posterior_values(settings);
     draws.source = settings.posterior.string();
+    const auto rows = draws.values.rows();
+    if (settings.samples_given && settings.samples < rows) {
+      // `samples` of the file's rows, evenly spaced (a sampler's posterior
+      // rows are exchangeable: any even subset is a sample of it).
+      Eigen::MatrixXd kept(settings.samples, draws.values.cols());
+      for (Eigen::Index i = 0; i < settings.samples; ++i)
+        kept.row(i) = draws.values.row(i * rows / settings.samples);
+      draws.values = std::move(kept);
+      draws.source += fmt::format(" ({} of its {} rows)", settings.samples, rows);
+    }
     return draws;
   }
   std::vector<uncertainty::Distribution> distributions;

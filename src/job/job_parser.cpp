@@ -63,46 +63,6 @@ using detail::kPositive;
 using detail::kRpm;
 using detail::length_mm;
 
-std::vector<Experiment> read_experiments(SectionReader& root, const Job& job) {
-  std::vector<Experiment> experiments;
-  auto items = root.sections("experiments");
-  if (!items)
-    return experiments;
-  for (SectionReader& e : *items) {
-    e.allow_schema("experiments[]");
-    Experiment experiment;
-    experiment.line = e.line();
-    experiment.spindle_rad_s =
-        e.quantity("spindle", field(dimensions::angular_speed, kRpm, "rpm", kPositive));
-    experiment.axial_depth_m = e.quantity("depth", length_mm());
-    if (e.has("posture")) {
-      if (!job.robot)
-        e.fail("posture", "needs a robot: section (the joint angles of its posture)");
-      experiment.posture_rad = *e.quantities("posture", field(dimensions::angle, kDeg, "deg"),
-                                             job.robot->description.joints.size());
-    }
-    if (auto recording = e.section("recording")) {
-      experiment.recording =
-          detail::read_nested_recording(*recording, job, experiment.spindle_rad_s);
-      if (!experiment.recording->depth_m)
-        experiment.recording->depth_m = experiment.axial_depth_m;
-    }
-    experiment.verdict_given = e.has("chatter");
-    if (experiment.verdict_given)
-      experiment.chatter = e.boolean("chatter");
-    else if (!experiment.recording)
-      e.fail("chatter", "required: true or false (or a recording: whose verdict says)");
-    experiment.chatter_frequency_hz =
-        e.quantity_or("chatter_freq", field(dimensions::frequency, 1.0, "Hz", kPositive), 0.0);
-    experiment.power_w = e.quantity_or("power", field(dimensions::power, 1.0, "W", kPositive), 0.0);
-    if (experiment.chatter_frequency_hz > 0.0 && !experiment.chatter)
-      e.fail("chatter_freq", "is given for a test that did not chatter (chatter: false)");
-    e.finish();
-    experiments.push_back(experiment);
-  }
-  return experiments;
-}
-
 OutputSettings read_output(SectionReader& root) {
   OutputSettings output;
   auto section = root.section("output");
@@ -192,7 +152,7 @@ Job read_job(const YAML::Node& root_node, const std::filesystem::path& source,
     job.robot = detail::read_robot_section(*robot, source);
   detail::resolve_posture_library(job);
   job.stability = detail::read_stability(root, job.tool, job.modes, job.dynamics_source);
-  job.experiments = read_experiments(root, job);
+  job.experiments = detail::read_experiments(root, job);  // job_parser_learning.cpp
   detail::read_planning(root, job);    // workpiece, path, optimize (job_parser_planning.cpp)
   detail::read_simulation(root, job);  // simulation (job_parser_simulation.cpp)
   detail::read_deflection(root, job);  // 000 §2-4 (job_parser_deflection.cpp)

@@ -192,6 +192,48 @@ FrfFileSpec read_frf_file(SectionReader& f, const std::filesystem::path& source,
   return spec;
 }
 
+}  // namespace
+
+std::vector<FrfFileSpec> read_frf_files(SectionReader& r, const std::filesystem::path& source) {
+  std::vector<FrfFileSpec> files;
+  if (r.is_map("frf")) {
+    // DESIGN.md's form, one file per measured direction: {x: file, y: file},
+    // each a path or a map with the list form's keys.
+    auto by_direction = r.section("frf");
+    by_direction->allow_schema("dynamics.frf");
+    for (const char* key : {"x", "y", "z"}) {
+      const int axis = key[0] - 'x';
+      if (by_direction->is_map(key)) {
+        auto entry = by_direction->section(key);
+        files.push_back(read_frf_file(*entry, source, axis));
+      } else if (auto file = by_direction->optional_text(key)) {
+        FrfFileSpec spec;
+        spec.path = by_direction->path_of(key);
+        spec.line = by_direction->line_of(key);
+        spec.file = job_relative(source, *file);
+        spec.format = guessed_format(spec.file);
+        if (spec.format == FrfFileSpec::Format::csv) {
+          by_direction->fail(key, "a CSV file needs its units: write {file: " + *file +
+                                      ", units: mm/N} (or m/s/N, m/s^2/N)");
+        }
+        spec.response_axis = spec.reference_axis = axis;
+        files.push_back(spec);
+      }
+    }
+    by_direction->finish();
+    if (files.empty())
+      r.fail("frf", "must name at least one FRF file ({x: file, y: file})");
+  } else if (auto list = r.sections("frf")) {
+    if (list->empty())
+      r.fail("frf", "must list at least one FRF file");
+    for (SectionReader& f : *list)
+      files.push_back(read_frf_file(f, source));
+  }
+  return files;
+}
+
+namespace {
+
 FitSettings read_fit(SectionReader& fit) {
   fit.allow_schema("dynamics.fit");
   FitSettings settings;
@@ -366,39 +408,7 @@ void read_dynamics(SectionReader& root, Job& job) {
     for (SectionReader& m : *items)
       job.modes.push_back(read_mode(m));
   }
-  if (r.is_map("frf")) {
-    // DESIGN.md's form, one file per measured direction: {x: file, y: file},
-    // each a path or a map with the list form's keys.
-    auto by_direction = r.section("frf");
-    by_direction->allow_schema("dynamics.frf");
-    for (const char* key : {"x", "y", "z"}) {
-      const int axis = key[0] - 'x';
-      if (by_direction->is_map(key)) {
-        auto entry = by_direction->section(key);
-        job.frf_files.push_back(read_frf_file(*entry, job.source, axis));
-      } else if (auto file = by_direction->optional_text(key)) {
-        FrfFileSpec spec;
-        spec.path = by_direction->path_of(key);
-        spec.line = by_direction->line_of(key);
-        spec.file = job_relative(job.source, *file);
-        spec.format = guessed_format(spec.file);
-        if (spec.format == FrfFileSpec::Format::csv) {
-          by_direction->fail(key, "a CSV file needs its units: write {file: " + *file +
-                                      ", units: mm/N} (or m/s/N, m/s^2/N)");
-        }
-        spec.response_axis = spec.reference_axis = axis;
-        job.frf_files.push_back(spec);
-      }
-    }
-    by_direction->finish();
-    if (job.frf_files.empty())
-      r.fail("frf", "must name at least one FRF file ({x: file, y: file})");
-  } else if (auto files = r.sections("frf")) {
-    if (files->empty())
-      r.fail("frf", "must list at least one FRF file");
-    for (SectionReader& f : *files)
-      job.frf_files.push_back(read_frf_file(f, job.source));
-  }
+  job.frf_files = read_frf_files(r, job.source);
   if (auto fit = r.section("fit"))
     job.fit = read_fit(*fit);
   if (r.boolean_or("from_robot", false)) {

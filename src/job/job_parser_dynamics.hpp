@@ -14,6 +14,11 @@ namespace robomill::job::detail {
 /// job.dynamics_source. Throws InputError naming the field and line.
 void read_dynamics(SectionReader& root, Job& job);
 
+/// The measured FRF files under `frf` of section `r` (dynamics.frf, an
+/// experiment's hammer test): the map by direction or the list; empty when
+/// `frf` is absent. Paths are resolved against `source`'s folder.
+std::vector<FrfFileSpec> read_frf_files(SectionReader& r, const std::filesystem::path& source);
+
 /// 001 Eq 16-18 at the query posture (dynamics.at or robot.posture): the
 /// library's modes interpolated into job.modes. Nothing without a library.
 void resolve_posture_library(Job& job);

@@ -7,6 +7,11 @@
 
 namespace robomill::job::detail {
 
+/// Reads `experiments` (cutting tests and hammer tests, the evidence of
+/// `robomill learn` and the tests `stability` compares with). Throws
+/// InputError naming the entry's field and line.
+std::vector<Experiment> read_experiments(SectionReader& root, const Job& job);
+
 /// Reads `learn` into job.learn (after `uncertainty`, whose seed is its
 /// default seed). Throws InputError naming the field and line.
 void read_learn(SectionReader& root, Job& job);

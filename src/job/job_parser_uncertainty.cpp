@@ -551,6 +551,7 @@ void read_uncertainty(SectionReader& root, const YAML::Node& tree, Job& job) {
       item.fail("name", fmt::format("'{}' is already the name of {} (line {})", v.name,
                                     at->second.first, at->second.second));
   }
+  settings.samples_given = r.has("samples");
   settings.samples = r.integer_or("samples", 1, kMaxUncertaintySamples, 1000);
   settings.seed = static_cast<std::uint64_t>(r.integer_or("seed", 0, INT_MAX, 1));
   settings.sampling = r.choice("sampling", {"sobol", "random"}, "sobol") == "random"

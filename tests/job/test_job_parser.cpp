@@ -438,6 +438,16 @@ TEST(JobValidation, CrossFieldChecks) {
                "dynamics.modes[0].m", 3,
                "give one of k (modal stiffness), m (modal mass) or shape");
   expect_error("dynamics:\n  modes: []\n", "dynamics.modes", 2, "at least one mode");
+  // A hammer test is no cut; a test's place is given once; a test's own ae
+  // fits the tool.
+  expect_error("experiments:\n  - {frf: {x: a.uff}, spindle: 3000 rpm}\n", "experiments[0].spindle",
+               2, "this entry is a hammer test");
+  expect_error("experiments:\n  - {frf: []}\n", "experiments[0].frf", 2, "at least one FRF file");
+  expect_error(std::string(kTool) +
+                   "experiments:\n  - {spindle: 3000, depth: 1, chatter: false, ae: 11 mm}\n",
+               "experiments[0].ae", 5, "exceeds the tool diameter 10 mm");
+  expect_error("experiments:\n  - {spindle: 3000, depth: 1, chatter: false, position: [1, 2, 3]}\n",
+               "experiments[0].position", 2, "needs a robot");
 }
 
 TEST(JobValidation, ErrorsInLaterListItemsNameTheirIndex) {

@@ -101,6 +101,8 @@ robot:
   dh: [{a: 0, alpha: 0, d: 0, theta: 0}]
   joint_stiffness: [1e6]
   base: {xyz: [0, 0, 100], rpy: [0, 0, 90]}
+experiments:
+  - {position: [120, 80, 5], frf: [{file: data/003_kr270_tab1.uff}]}
 output: {dir: out/kitchen-sink, formats: [csv, json]}
 )",
     // A simulation by revolutions with process damping; the deflection sweep.
@@ -205,6 +207,9 @@ cutting: {law: linear, Ktc: 855 N/mm^2, Krc: 290 N/mm^2}
 experiments:
   - {spindle: 5130 rpm, depth: 1.7 mm, chatter: true, chatter_freq: 2113 Hz, power: 1.2 kW}
   - {spindle: 5210 rpm, depth: 1.2 mm, recording: {file: listen/displacement_stable.wav}}
+  - {spindle: 5330 rpm, depth: 0.9 mm, chatter: false, ae: 1.5 mm, direction: up,
+     feed_per_tooth: 0.08 mm}
+  - {frf: {x: {file: x.csv, units: mm/N}, y: {file: y.csv, units: mm/N}}}
 uncertainty:
   variables:
     - {name: k, path: dynamics.modes.0.k, mode: scale, distribution: lognormal, median: 1, sigma: 0.2}
@@ -218,6 +223,10 @@ learn:
   mislabel: 2 %
   chatter_freq_sd: 15 Hz
   power_sd: 30 W
+  method: sdm
+  frf_fn_sd: 3 %
+  frf_k_sd: 25 %
+  frf_zeta_sd: 40 %
   spread_shrink: 3 %
 )",
 };

@@ -124,8 +124,21 @@ struct Experiment {
   /// `power`: the spindle's cutting power during the test (W, above its
   /// idle power); 0 when not given.
   double power_w = 0.0;
-  /// `posture`: the robot's joint angles (rad) during the test; empty: robot.posture.
+  /// `posture`: the robot's joint angles (rad) during the test; empty:
+  /// robot.posture (or `position`'s).
   std::vector<double> posture_rad;
+  /// `position`: the tool tip in the workpiece frame (m) during the test,
+  /// the tool along the workpiece's z; `robomill learn` finds the posture
+  /// from workpiece.pose and robot_path.redundancy.
+  std::optional<Eigen::Vector3d> position_m;
+  /// `ae`, `direction`, `feed_per_tooth`: the test's cut where it differs
+  /// from the job's process (nullopt: the process's).
+  std::optional<double> radial_depth_m, feed_per_tooth_m;
+  std::optional<cutting::MillingDirection> direction;
+  /// `frf:` a hammer test (files as dynamics.frf) at the test's posture:
+  /// no cut, so no spindle, depth or verdict.
+  std::vector<FrfFileSpec> frf_files;
+  bool hammer() const noexcept { return !frf_files.empty(); }
   /// Whether `chatter` was written; false when only a recording says.
   bool verdict_given = true;
   /// `recording:` the cut's recording (as `recordings[]`): `learn` takes the
@@ -429,7 +442,10 @@ struct UncertaintySettings {
   };
   std::vector<Variable> variables;  ///< `variables`, in the job's order (≥ 1)
   int samples = 1000;               ///< `samples`: draws, ≥ 1
-  std::uint64_t seed = 1;           ///< `seed`
+  /// Whether `samples` was written: with a posterior, that many of its rows
+  /// (evenly spaced) are used; all of them otherwise.
+  bool samples_given = false;
+  std::uint64_t seed = 1;  ///< `seed`
   /// `sampling`: randomly shifted Sobol points (default) or pseudo-random ones.
   uncertainty::DrawSettings::Sampling sampling = uncertainty::DrawSettings::Sampling::sobol;
   /// `correlation` (by names) as a variables × variables matrix in the
@@ -459,6 +475,13 @@ struct LearnSettings {
   double mislabel = 0.01;             ///< `mislabel`: ε, a verdict's chance of being wrong
   double chatter_freq_sd_hz = 20.0;   ///< `chatter_freq_sd`: σ_f (Hz)
   double power_sd_w = 20.0;           ///< `power_sd`: σ_P of a measured power (W)
+  /// `method`: the limit the verdicts' probit is centred on: zero-order
+  /// (zoa, the anchor's) or a time-domain method (sdm, fdm, fdm2, with
+  /// stability.discretization steps; some 100 times slower).
+  StabilitySettings::Method method = StabilitySettings::Method::zoa;
+  /// `frf_fn_sd`, `frf_k_sd`, `frf_zeta_sd`: relative (log-normal) spreads
+  /// of a hammer test's fitted fn, k and ζ around the nearest predicted mode.
+  double frf_fn_sd = 0.02, frf_k_sd = 0.20, frf_zeta_sd = 0.30;
   double spread_shrink = 0.05;  ///< `spread_shrink`: switching's least relative shrink per test
   /// `places[].posture`: further robot postures (rad) where the lobes are
   /// predicted and the next test may be proposed.
