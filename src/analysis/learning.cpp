@@ -11,6 +11,7 @@
 #include "robomill/analysis/job_draws.hpp"
 #include "robomill/analysis/learning_model.hpp"
 #include "robomill/analysis/recording_verdicts.hpp"
+#include "robomill/analysis/structure.hpp"
 #include "robomill/core/constants.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/core/parallel.hpp"
@@ -63,35 +64,100 @@ PowerBasis power_basis(const job::Job& job, const job::Experiment& t) {
   const cutting::MillingProcess& p = *job.process;
   const double radius = 0.5 * job.tool->diameter_m;
   const cutting::Engagement e =
-      cutting::radial_engagement(radius, radius, p.radial_depth_m, p.direction);
+      cutting::radial_engagement(radius, radius, t.radial_depth_m.value_or(p.radial_depth_m),
+                                 t.direction.value_or(p.direction));
   const double common =
       t.spindle_rad_s * radius * job.tool->teeth * t.axial_depth_m / (2.0 * std::numbers::pi);
-  return {common * p.feed_per_tooth_m * (std::cos(e.entry_rad) - std::cos(e.exit_rad)),
+  return {common * t.feed_per_tooth_m.value_or(p.feed_per_tooth_m) *
+              (std::cos(e.entry_rad) - std::cos(e.exit_rad)),
           common * (e.exit_rad - e.entry_rad)};
 }
 
+/// A mode fitted to a hammer test's FRF: its direction (the driving-point
+/// axis), fn, ζ and the modal stiffness k = ωn²/φ² along that axis.
+struct ObservedMode {
+  std::size_t test = 0;  ///< in job.experiments
+  int place = 0;
+  int axis = 0;
+  double natural_frequency_hz = 0.0, damping_ratio = 0.0, stiffness_n_per_m = 0.0;
+};
+
+/// The cuts' evidence grouped by where (place) and how (cut: ae, direction)
+/// each was made, so a sample solves each place, cut and speed once.
 struct Evidence {
   std::vector<job::Experiment> tests;
   std::vector<PowerBasis> power;                  ///< per test (used where it gives a power)
   std::vector<int> place_of;                      ///< per test
-  std::vector<std::size_t> speed_of;              ///< per test, in its place's list
-  std::vector<std::vector<double>> speeds_rad_s;  ///< per place of the model
+  std::vector<int> group_of;                      ///< per test: its (place, cut)
+  std::vector<std::size_t> speed_of;              ///< per test, in its group's list
+  std::vector<std::pair<int, int>> groups;        ///< (place, cut)
+  std::vector<std::vector<double>> speeds_rad_s;  ///< per group
+  std::vector<ObservedMode> hammer;               ///< the hammer tests' fitted modes
+  std::vector<int> hammer_places;                 ///< the places they were measured at
 };
 
 Evidence evidence_of(const LearningModel& model, const job::Job& job,
-                     const std::vector<job::Experiment>& tests) {
-  Evidence e{tests, {}, {}, {}, std::vector<std::vector<double>>(model.places().size())};
+                     const std::vector<job::Experiment>& tests,
+                     const std::vector<ObservedMode>& hammer) {
+  Evidence e;
+  e.tests = tests;
+  e.hammer = hammer;
+  for (const ObservedMode& m : hammer)
+    if (std::find(e.hammer_places.begin(), e.hammer_places.end(), m.place) == e.hammer_places.end())
+      e.hammer_places.push_back(m.place);
   for (const job::Experiment& t : tests) {
     e.power.push_back(power_basis(job, t));
-    const int place = model.place_of(t.posture_rad);
-    std::vector<double>& speeds = e.speeds_rad_s[static_cast<std::size_t>(place)];
+    const std::pair<int, int> group = {model.place_of(t.posture_rad), model.cut_of(t)};
+    auto g = std::find(e.groups.begin(), e.groups.end(), group);
+    if (g == e.groups.end()) {
+      e.groups.push_back(group);
+      e.speeds_rad_s.emplace_back();
+      g = e.groups.end() - 1;
+    }
+    std::vector<double>& speeds = e.speeds_rad_s[static_cast<std::size_t>(g - e.groups.begin())];
     const auto it = std::find(speeds.begin(), speeds.end(), t.spindle_rad_s);
-    e.place_of.push_back(place);
+    e.place_of.push_back(group.first);
+    e.group_of.push_back(static_cast<int>(g - e.groups.begin()));
     e.speed_of.push_back(static_cast<std::size_t>(it - speeds.begin()));
     if (it == speeds.end())
       speeds.push_back(t.spindle_rad_s);
   }
   return e;
+}
+
+/// log p(fitted mode | predicted modes): the hammer test's fitted fn, k and
+/// ζ against the predicted mode nearest to them (the smallest normalized
+/// distance in log fn, log k along the measured axis, log ζ), each
+/// log-normal with the learn.frf_*_sd spreads. A predicted mode without
+/// motion along the axis cannot be the one measured there.
+double log_hammer_likelihood(const ObservedMode& observed,
+                             const std::vector<dynamics::Mode>& predicted,
+                             const LearnSettings& settings, std::size_t* nearest = nullptr) {
+  double best = kInfinity;
+  for (std::size_t r = 0; r < predicted.size(); ++r) {
+    const dynamics::Mode& m = predicted[r];
+    const double along = m.shape(observed.axis);
+    if (!(along * along > 0.0))
+      continue;
+    const double omega = 2.0 * std::numbers::pi * m.natural_frequency_hz;
+    const double k = omega * omega / (along * along);
+    const double rf =
+        std::log(observed.natural_frequency_hz / m.natural_frequency_hz) / settings.frf_fn_sd;
+    const double rk = std::log(observed.stiffness_n_per_m / k) / settings.frf_k_sd;
+    const double rz = std::log(observed.damping_ratio / m.damping_ratio) / settings.frf_zeta_sd;
+    const double distance = rf * rf + rk * rk + rz * rz;
+    if (distance < best && nearest)
+      *nearest = r;
+    best = std::min(best, distance);
+  }
+  if (!std::isfinite(best))
+    return -kInfinity;
+  // The three log-normal densities of the observed values.
+  const double norm = std::log(settings.frf_fn_sd * settings.frf_k_sd * settings.frf_zeta_sd *
+                               observed.natural_frequency_hz * observed.stiffness_n_per_m *
+                               observed.damping_ratio) +
+                      1.5 * std::log(2.0 * std::numbers::pi);
+  return -0.5 * best - norm;
 }
 
 double limit_or_infinity(const stability::ZeroOrderLimit& l) {
@@ -105,20 +171,30 @@ learning::LogLikelihoodParts log_likelihood(const LearningModel& model, const Ev
                                             const LearnSettings& settings, const Eigen::VectorXd& x,
                                             std::size_t first_added) {
   learning::LogLikelihoodParts parts;
+  if (!evidence.hammer.empty()) {
+    std::vector<dynamics::Mode> modes;
+    for (const int place : evidence.hammer_places) {
+      if (!model.modes(x, place, modes))
+        return {-kInfinity, -kInfinity};
+      for (const ObservedMode& m : evidence.hammer)
+        if (m.place == place)
+          parts.settled += log_hammer_likelihood(m, modes, settings);
+    }
+  }
   if (evidence.tests.empty())
     return parts;
   std::vector<std::vector<stability::ZeroOrderLimit>> limits(evidence.speeds_rad_s.size());
-  for (std::size_t place = 0; place < limits.size(); ++place) {
-    const std::vector<double>& speeds = evidence.speeds_rad_s[place];
-    limits[place].resize(speeds.size());
-    if (!speeds.empty() && !model.limits(x, static_cast<int>(place), speeds, limits[place]))
+  for (std::size_t g = 0; g < limits.size(); ++g) {
+    const std::vector<double>& speeds = evidence.speeds_rad_s[g];
+    limits[g].resize(speeds.size());
+    if (!model.limits(x, evidence.groups[g].first, evidence.groups[g].second, speeds, limits[g]))
       return {-kInfinity, -kInfinity};
   }
   const learning::VerdictModel verdict = verdict_model(settings);
   for (std::size_t i = 0; i < evidence.tests.size(); ++i) {
     const job::Experiment& t = evidence.tests[i];
     const stability::ZeroOrderLimit& l =
-        limits[static_cast<std::size_t>(evidence.place_of[i])][evidence.speed_of[i]];
+        limits[static_cast<std::size_t>(evidence.group_of[i])][evidence.speed_of[i]];
     double term =
         learning::log_verdict_likelihood(t.chatter, t.axial_depth_m, limit_or_infinity(l), verdict);
     if (t.chatter && t.chatter_frequency_hz > 0.0 && l.limited) {
@@ -151,6 +227,8 @@ Posteriors sample(const LearningModel& model, const Evidence& evidence,
   smc.particles = settings.samples;
   smc.seed = settings.seed;
   smc.threads = threads;
+  // The latest cut is sampled apart (the switching strategy's posterior
+  // without it); hammer tests are always settled.
   const std::size_t latest = evidence.tests.empty() ? 0 : evidence.tests.size() - 1;
   Posteriors p;
   p.without_latest = learning::sample_tempered(
@@ -284,10 +362,14 @@ struct ResolvedTests {
   std::vector<SkippedExperiment> skipped;
 };
 
-ResolvedTests resolve_tests(const job::Job& job, int threads, std::vector<std::string>& warnings) {
+ResolvedTests resolve_tests(const LearningModel& model, const job::Job& job, int threads,
+                            std::vector<std::string>& warnings) {
   ResolvedTests out;
   for (std::size_t i = 0; i < job.experiments.size(); ++i) {
     job::Experiment t = job.experiments[i];
+    if (t.hammer())
+      continue;  // hammer_modes
+    t.posture_rad = model.experiment_posture(i);
     if (t.recording) {
       // listen's analysis of this one recording: the job's tool, process
       // and listen settings, no lobes (the verdict does not need them).
@@ -321,6 +403,71 @@ ResolvedTests resolve_tests(const job::Job& job, int threads, std::vector<std::s
     out.from_recording.push_back(t.recording.has_value());
   }
   return out;
+}
+
+/// The hammer tests' fitted modes: each test's FRFs read (as dynamics.frf)
+/// and fitted with the job's dynamics.fit settings, every fitted mode along
+/// its driving-point axis.
+std::vector<ObservedMode> hammer_modes(const LearningModel& model, const job::Job& job) {
+  std::vector<ObservedMode> observed;
+  for (std::size_t i = 0; i < job.experiments.size(); ++i) {
+    const job::Experiment& t = job.experiments[i];
+    if (!t.hammer())
+      continue;
+    job::Job one = job;
+    one.frf_files = t.frf_files;
+    std::optional<StructureFit> fit;
+    try {
+      fit.emplace(fit_structure(one, load_measured_frfs(one)));
+    } catch (const InputError&) {
+      throw;  // names the file's entry, experiments[i].frf...
+    } catch (const Error& e) {
+      throw InputError(fmt::format("experiments[{}].frf", i), t.line,
+                       fmt::format("the hammer test's FRFs could not be fitted ({}): set "
+                                   "dynamics.fit.bands around the modes the model describes",
+                                   e.what()));
+    }
+    const int place = model.place_of(model.experiment_posture(i));
+    for (const dynamics::Mode& m : fit->modes.modes()) {
+      Eigen::Index axis = 0;
+      const double along = m.shape.cwiseAbs().maxCoeff(&axis);
+      const double omega = 2.0 * std::numbers::pi * m.natural_frequency_hz;
+      observed.push_back({i, place, static_cast<int>(axis), m.natural_frequency_hz, m.damping_ratio,
+                          omega * omega / (along * along)});
+    }
+  }
+  return observed;
+}
+
+/// Each fitted mode's nearest predicted mode (fn, k along the axis), its
+/// median over `values`.
+void predicted_hammer_modes(const LearningModel& model, const Eigen::MatrixXd& values,
+                            const std::vector<ObservedMode>& observed,
+                            const LearnSettings& settings, bool posterior,
+                            std::vector<LearnedHammerMode>& out) {
+  const Eigen::Index stride = std::max<Eigen::Index>(1, values.rows() / kSelectionSamples);
+  for (std::size_t k = 0; k < observed.size(); ++k) {
+    const ObservedMode& o = observed[k];
+    std::vector<double> fn, stiffness;
+    std::vector<dynamics::Mode> modes;
+    for (Eigen::Index i = 0; i < values.rows(); i += stride) {
+      std::size_t r = 0;
+      if (!model.modes(values.row(i).transpose(), o.place, modes) ||
+          !std::isfinite(log_hammer_likelihood(o, modes, settings, &r)))
+        continue;
+      const double along = modes[r].shape(o.axis);
+      const double omega = 2.0 * std::numbers::pi * modes[r].natural_frequency_hz;
+      fn.push_back(modes[r].natural_frequency_hz);
+      stiffness.push_back(omega * omega / (along * along));
+    }
+    if (fn.empty())
+      continue;
+    const double fn_median = uncertainty::empirical_quantile(fn, 0.5).value;
+    const double k_median = uncertainty::empirical_quantile(stiffness, 0.5).value;
+    LearnedHammerMode& m = out[k];
+    (posterior ? m.posterior_fn_hz : m.prior_fn_hz) = fn_median;
+    (posterior ? m.posterior_k_n_per_m : m.prior_k_n_per_m) = k_median;
+  }
 }
 
 /// Pairs of tests at one speed where the deeper one was stable and the
@@ -440,7 +587,8 @@ std::vector<double> predicted_chatter(const LearningModel& model, const Eigen::M
   std::vector<stability::ZeroOrderLimit> limit(1);
   std::vector<double> p;
   for (Eigen::Index i = 0; i < values.rows(); i += stride) {
-    if (!model.limits(values.row(i).transpose(), model.place_of(test.posture_rad), speed, limit))
+    if (!model.limits(values.row(i).transpose(), model.place_of(test.posture_rad),
+                      model.cut_of(test), speed, limit))
       continue;
     p.push_back(
         learning::chatter_probability(test.axial_depth_m, limit_or_infinity(limit[0]), verdict));
@@ -514,9 +662,10 @@ LearningResult learn(const job::Job& job, int threads) {
                                ? std::string("factor")
                                : job::si_unit(v.targets.front().dimension));
 
-  const ResolvedTests resolved = resolve_tests(job, threads, result.warnings);
+  const ResolvedTests resolved = resolve_tests(model, job, threads, result.warnings);
   result.skipped = resolved.skipped;
-  const Evidence evidence = evidence_of(model, job, resolved.used);
+  const std::vector<ObservedMode> hammer = hammer_modes(model, job);
+  const Evidence evidence = evidence_of(model, job, resolved.used, hammer);
   const Posteriors posteriors = sample(model, evidence, settings, threads);
   result.sampler = posteriors.all;
   result.posterior_values = values_of(model, result.sampler.particles);
@@ -592,6 +741,12 @@ LearningResult learn(const job::Job& job, int threads) {
     result.experiments.push_back(e);
   }
   warn_contradictions(resolved, result.warnings);
+  for (const ObservedMode& o : hammer)
+    result.hammer_modes.push_back({o.test, job.experiments[o.test].line, o.place, o.axis,
+                                   o.natural_frequency_hz, o.damping_ratio, o.stiffness_n_per_m});
+  predicted_hammer_modes(model, prior_draws.values, hammer, settings, false, result.hammer_modes);
+  predicted_hammer_modes(model, result.posterior_values, hammer, settings, true,
+                         result.hammer_modes);
 
   // The next test.
   std::string strategy =

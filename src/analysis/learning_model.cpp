@@ -11,9 +11,11 @@
 #include "robomill/analysis/job_draws.hpp"
 #include "robomill/analysis/structure.hpp"
 #include "robomill/core/error.hpp"
+#include "robomill/planning/workpiece_placement.hpp"
 #include "robomill/robot/joint_dynamics.hpp"
 #include "robomill/robot/kinematics.hpp"
 #include "robomill/robot/robot_model.hpp"
+#include "robomill/stability/lobes.hpp"
 #include "robomill/tool/tool.hpp"
 #include "robomill/uncertainty/draws.hpp"
 
@@ -50,6 +52,43 @@ bool parse_mode_path(const std::string& path, int& row, std::string& field) {
   return true;
 }
 
+/// The posture of experiments[index] from its `position` (the tool tip in
+/// the workpiece frame, the tool along the workpiece's z): the tip and axis
+/// placed by workpiece.pose (004 Eq 7), the rotation about the axis by
+/// robot_path.redundancy, inverse kinematics from robot.posture, as the
+/// robot along a program finds its postures.
+std::vector<double> posture_at_position(const job::Job& job, const robot::RobotModel& model,
+                                        std::size_t index) {
+  const job::Experiment& e = job.experiments[index];
+  const std::string field = fmt::format("experiments[{}].position", index);
+  if (!job.workpiece || !job.workpiece->pose)
+    throw InputError(field, e.line,
+                     "needs workpiece.pose (and workpiece.table): where the part sits in the "
+                     "cell, to place the tool tip");
+  const Eigen::Isometry3d to_cell =
+      planning::workpiece_to_cell(job.workpiece->cell, *job.workpiece->pose);
+  const Eigen::Vector3d tip = to_cell * *e.position_m;
+  const Eigen::Vector3d axis = to_cell.linear() * Eigen::Vector3d::UnitZ();
+  const double redundancy_rad = job.robot_path ? job.robot_path->redundancy_rad : 0.0;
+  const Eigen::VectorXd seed = Eigen::Map<const Eigen::VectorXd>(
+      job.robot->posture_rad.data(), static_cast<Eigen::Index>(job.robot->posture_rad.size()));
+  robot::IkOptions options;
+  options.position_only = model.dof() < 6;
+  options.position_tolerance_m = 1e-9;
+  options.orientation_tolerance_rad = 1e-9;
+  const robot::IkResult solution =
+      robot::inverse_kinematics_about_axis(model, tip, axis, redundancy_rad, seed, options);
+  if (!solution.converged)
+    throw InputError(field, e.line,
+                     fmt::format("the robot cannot reach [{:.1f}, {:.1f}, {:.1f}] mm of the "
+                                 "workpiece with the tool along its z (closest: {:.3g} mm, "
+                                 "{:.3g} deg off): check the position and workpiece.pose",
+                                 1e3 * e.position_m->x(), 1e3 * e.position_m->y(),
+                                 1e3 * e.position_m->z(), 1e3 * solution.position_residual_m,
+                                 solution.orientation_residual_rad * 180.0 / std::numbers::pi));
+  return std::vector<double>(solution.q.data(), solution.q.data() + solution.q.size());
+}
+
 }  // namespace
 
 LearningModel::LearningModel(const job::Job& job) {
@@ -74,17 +113,17 @@ LearningModel::LearningModel(const job::Job& job) {
   if (!law)
     throw InputError("cutting.law", 0, "learn needs the linear law (law: linear)");
   nominal_ = {*law, job.modes, Eigen::VectorXd(), 0.0};
+  if (!from_robot)
+    places_ = {{}};
+  experiment_postures_.resize(job.experiments.size());
   if (from_robot)
     set_up_robot(job);
-  else
-    places_ = {{}};
   teeth_ = job.tool->teeth;
   double deepest = job.stability->depth_max_m;
   for (const job::Experiment& e : job.experiments)
     deepest = std::max(deepest, e.axial_depth_m);
   search_depth_m_ = 1.25 * deepest;
-  basis_ =
-      stability::mean_cutting_stiffness_basis(tool::Tool(*job.tool), *job.cutting, *job.process);
+  set_up_cuts(job);
 
   using F = Setter::Field;
   const std::vector<std::pair<std::string, F>> coefficients = {
@@ -153,14 +192,25 @@ void LearningModel::set_up_robot(const job::Job& job) {
       places_.push_back(posture);
   };
   add(job.robot->posture_rad);
-  for (const job::Experiment& e : job.experiments)
-    if (!e.posture_rad.empty())
-      add(e.posture_rad);
-  if (job.learn)
-    for (const std::vector<double>& place : job.learn->places_rad)
-      add(place);
   try {
     const robot::RobotModel model(d);
+    for (std::size_t i = 0; i < job.experiments.size(); ++i) {
+      const job::Experiment& e = job.experiments[i];
+      if (e.position_m)
+        experiment_postures_[i] = posture_at_position(job, model, i);
+      else if (!e.posture_rad.empty())
+        experiment_postures_[i] = e.posture_rad;
+      else if (e.hammer())
+        throw InputError(fmt::format("experiments[{}].posture", i), e.line,
+                         "a hammer test (frf:) on a robot needs the posture it was measured at "
+                         "(posture: joint angles, or position: the tool tip in the workpiece "
+                         "frame); the modes change with the posture");
+      if (!experiment_postures_[i].empty())
+        add(experiment_postures_[i]);
+    }
+    if (job.learn)
+      for (const std::vector<double>& place : job.learn->places_rad)
+        add(place);
     for (const std::vector<double>& posture : places_) {
       const Eigen::VectorXd q = Eigen::Map<const Eigen::VectorXd>(
           posture.data(), static_cast<Eigen::Index>(posture.size()));
@@ -172,6 +222,44 @@ void LearningModel::set_up_robot(const job::Job& job) {
   } catch (const std::invalid_argument& error) {
     throw InputError("robot", 0, error.what());
   }
+}
+
+void LearningModel::set_up_cuts(const job::Job& job) {
+  tool_.emplace(*job.tool);
+  if (job.learn)
+    method_ = job.learn->method;
+  steps_ = job.stability->discretization;
+  const auto add = [&](double radial_depth_m, cutting::MillingDirection direction) {
+    for (const Cut& c : cuts_)
+      if (c.process.radial_depth_m == radial_depth_m && c.process.direction == direction)
+        return;
+    cutting::MillingProcess process = *job.process;
+    process.radial_depth_m = radial_depth_m;
+    process.direction = direction;
+    cuts_.push_back(
+        {process, stability::mean_cutting_stiffness_basis(*tool_, *job.cutting, process)});
+  };
+  add(job.process->radial_depth_m, job.process->direction);
+  for (const job::Experiment& e : job.experiments)
+    if (!e.hammer())
+      add(e.radial_depth_m.value_or(job.process->radial_depth_m),
+          e.direction.value_or(job.process->direction));
+}
+
+int LearningModel::cut_of(const job::Experiment& test) const {
+  const cutting::MillingProcess& own = cuts_.front().process;
+  const double ae = test.radial_depth_m.value_or(own.radial_depth_m);
+  const cutting::MillingDirection direction = test.direction.value_or(own.direction);
+  for (std::size_t c = 0; c < cuts_.size(); ++c)
+    if (cuts_[c].process.radial_depth_m == ae && cuts_[c].process.direction == direction)
+      return static_cast<int>(c);
+  throw std::invalid_argument("LearningModel::cut_of: not one of the cuts");
+}
+
+bool LearningModel::modes(const Eigen::VectorXd& x, int place,
+                          std::vector<dynamics::Mode>& out) const {
+  Structure structure;
+  return apply(x, structure) && modes_at(structure, place, out);
 }
 
 int LearningModel::place_of(const std::vector<double>& posture_rad) const {
@@ -296,7 +384,7 @@ bool LearningModel::apply(const Eigen::VectorXd& x, Structure& out) const {
   });
 }
 
-bool LearningModel::limits(const Eigen::VectorXd& x, int place,
+bool LearningModel::limits(const Eigen::VectorXd& x, int place, int cut,
                            std::span<const double> speeds_rad_s,
                            std::span<stability::ZeroOrderLimit> out) const {
   Structure structure;
@@ -310,11 +398,38 @@ bool LearningModel::limits(const Eigen::VectorXd& x, int place,
   // grid's limits (150 and 1500 points) to 1e-11 at all but 1 of 60 000
   // (300 prior draws of the anchor case × 200 speeds; with 30 per peak, 15
   // crossings are missed), at a third of the cost (docs/learning.md §2).
+  const Cut& cut_of_test = cuts_[static_cast<std::size_t>(cut)];
+  if (method_ != job::StabilitySettings::Method::zoa) {
+    // A time-domain limit (stability/lobes.hpp), on this thread: the
+    // sampler runs the samples in parallel.
+    using M = job::StabilitySettings::Method;
+    stability::LobeOptions options;
+    options.method = method_ == M::sdm   ? stability::FloquetMethod::sdm
+                     : method_ == M::fdm ? stability::FloquetMethod::fdm
+                                         : stability::FloquetMethod::fdm2;
+    options.steps = steps_;
+    options.depth_max_m = search_depth_m_;
+    options.threads = 1;
+    const stability::RegenerativeModel regenerative(*tool_, cutting::CuttingLaw(structure.law),
+                                                    cut_of_test.process,
+                                                    dynamics::ModalModel(std::move(modes)));
+    const std::vector<double> speeds(speeds_rad_s.begin(), speeds_rad_s.end());
+    const std::vector<stability::LobePoint> points =
+        stability::stability_boundary(regenerative, speeds, options);
+    for (std::size_t s = 0; s < points.size(); ++s) {
+      out[s] = stability::ZeroOrderLimit{};
+      out[s].spindle_rad_s = points[s].spindle_rad_s;
+      out[s].depth_limit_m = points[s].depth_limit_m;
+      out[s].limited = points[s].limited;
+      out[s].chatter_frequency_hz = points[s].chatter_frequency_hz;
+    }
+    return true;
+  }
   stability::ZeroOrderOptions options;
   options.global_points = 100;
   options.points_per_peak = 40;
   options.depth_max_m = search_depth_m_;
-  const stability::ZeroOrderSolver solver(basis_(structure.law), teeth_,
+  const stability::ZeroOrderSolver solver(cut_of_test.basis(structure.law), teeth_,
                                           dynamics::ModalModel(std::move(modes)), options);
   for (std::size_t s = 0; s < speeds_rad_s.size(); ++s)
     out[s] = solver.limit(speeds_rad_s[s]);

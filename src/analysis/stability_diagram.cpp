@@ -262,8 +262,11 @@ ExperimentComparison compare_experiments(const std::vector<job::Experiment>& exp
                                          const dynamics::ModalModel* modes) {
   ExperimentComparison comparison;
   for (const job::Experiment& e : experiments) {
-    if (!e.verdict_given)
-      continue;  // a recording's verdict is learn's (docs/learning.md), not written here
+    // A recording's verdict is learn's (docs/learning.md), not written here;
+    // a hammer test is no cut; a cut of another ae or direction has a
+    // diagram of its own (learn predicts it).
+    if (!e.verdict_given || e.hammer() || e.radial_depth_m || e.direction)
+      continue;
     ExperimentCheck check;
     check.experiment = e;
     check.limit_m = interpolated_limit_m(limits, e.spindle_rad_s);

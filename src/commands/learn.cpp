@@ -99,6 +99,39 @@ io::CsvTable experiments_table(const analysis::LearningResult& r) {
   return table;
 }
 
+io::CsvTable hammer_table(const analysis::LearningResult& r) {
+  io::CsvTable table({"experiment", "line", "place", "axis", "fn_hz", "zeta", "k_n_per_m",
+                      "prior_fn_hz", "prior_k_n_per_m", "posterior_fn_hz", "posterior_k_n_per_m"});
+  for (const analysis::LearnedHammerMode& m : r.hammer_modes)
+    table.add_row({static_cast<double>(m.index), static_cast<double>(m.line),
+                   static_cast<double>(m.place), static_cast<double>(m.axis), m.fn_hz, m.zeta,
+                   m.k_n_per_m, m.prior_fn_hz, m.prior_k_n_per_m, m.posterior_fn_hz,
+                   m.posterior_k_n_per_m});
+  return table;
+}
+
+/// Every place's posterior P(chatter) map (chatter_probability.csv's
+/// columns after a place column): a robot's lobes change with the posture.
+io::CsvTable places_probability_table(const analysis::LearningResult& r) {
+  std::vector<const analysis::StabilityBand*> bands = {&r.posterior_band};
+  for (const analysis::PlaceBands& p : r.more_places)
+    bands.push_back(&p.posterior);
+  std::vector<std::string> columns = {"place"};
+  const io::CsvTable first = band_probability_table(*bands.front());
+  columns.insert(columns.end(), first.columns().begin(), first.columns().end());
+  io::CsvTable table(columns);
+  for (std::size_t p = 0; p < bands.size(); ++p) {
+    const io::CsvTable one = band_probability_table(*bands[p]);
+    for (std::size_t row = 0; row < one.rows(); ++row) {
+      std::vector<double> values = {static_cast<double>(p)};
+      for (std::size_t c = 0; c < one.columns().size(); ++c)
+        values.push_back(one.at(row, c));
+      table.add_row(values);
+    }
+  }
+  return table;
+}
+
 nlohmann::json diagnostics_json(const learning::SmcPosterior& s) {
   nlohmann::json temperatures = nlohmann::json::array();
   for (const learning::SmcStage& stage : s.stages)
@@ -146,8 +179,22 @@ CommandResult compute_learn(const job::Job& job, int threads) {
                                                                 : NAN)},
          {"p_chatter_prior", e.p_chatter_prior},
          {"p_chatter_posterior", e.p_chatter_posterior},
-         {"source", e.from_recording ? "recording" : "written"}});
+         {"source", e.from_recording ? "recording" : "written"},
+         {"place", e.place}});
   }
+  nlohmann::json hammer = nlohmann::json::array();
+  for (const analysis::LearnedHammerMode& m : r.hammer_modes)
+    hammer.push_back(
+        {{"experiment", m.index},
+         {"line", m.line},
+         {"place", m.place},
+         {"axis", std::string(1, static_cast<char>('x' + m.axis))},
+         {"fn_hz", m.fn_hz},
+         {"zeta", m.zeta},
+         {"k_n_per_m", m.k_n_per_m},
+         {"predicted_prior", {{"fn_hz", m.prior_fn_hz}, {"k_n_per_m", m.prior_k_n_per_m}}},
+         {"predicted_posterior",
+          {{"fn_hz", m.posterior_fn_hz}, {"k_n_per_m", m.posterior_k_n_per_m}}}});
   nlohmann::json skipped = nlohmann::json::array();
   for (const analysis::SkippedExperiment& e : r.skipped)
     skipped.push_back({{"experiment", e.index}, {"line", e.line}, {"reason", e.reason}});
@@ -158,6 +205,7 @@ CommandResult compute_learn(const job::Job& job, int threads) {
       {"next_test", next_test_json(r.next, r)},
       {"experiments_used", used},
       {"experiments_skipped", skipped},
+      {"hammer_modes", hammer},
       {"warnings", r.warnings},
       {"boundary_spread_mm",
        {{"prior", r.prior_spread_m * 1e3},
@@ -170,12 +218,15 @@ CommandResult compute_learn(const job::Job& job, int threads) {
   result.tables.emplace_back("chatter_probability", band_probability_table(r.posterior_band));
   result.tables.emplace_back("lobes_quantiles_prior", band_quantiles_table(r.prior_band));
   result.tables.emplace_back("experiments", experiments_table(r));
+  if (!r.hammer_modes.empty())
+    result.tables.emplace_back("hammer_modes", hammer_table(r));
   if (!r.places_rad.empty() && !r.places_rad.front().empty()) {
     nlohmann::json places = nlohmann::json::array();
     for (std::size_t p = 0; p < r.places_rad.size(); ++p)
       places.push_back({{"place", p}, {"posture_deg", degrees(r.places_rad[p])}});
     result.summary["places"] = places;
     result.tables.emplace_back("places", places_table(r));
+    result.tables.emplace_back("chatter_probability_places", places_probability_table(r));
   }
 
   for (const std::string& w : r.warnings)
@@ -184,11 +235,12 @@ CommandResult compute_learn(const job::Job& job, int threads) {
     result.message +=
         fmt::format("  note: experiments[{}] (line {}) skipped: {}\n", e.index, e.line, e.reason);
   result.message += fmt::format(
-      "  {} experiments, {} samples ({} stages, acceptance {:.2f}, log evidence {:.3f}) in "
+      "  {} cuts, {} hammer-test modes, {} samples ({} stages, acceptance {:.2f}, log evidence "
+      "{:.3f}) in "
       "{:.2f} s; boundary spread {:.3f} → {:.3f} mm\n",
-      r.experiments.size(), r.posterior_values.rows(), r.sampler.stages.size(),
-      r.sampler.acceptance, r.sampler.log_evidence, r.elapsed_s, r.prior_spread_m * 1e3,
-      r.posterior_spread_m * 1e3);
+      r.experiments.size(), r.hammer_modes.size(), r.posterior_values.rows(),
+      r.sampler.stages.size(), r.sampler.acceptance, r.sampler.log_evidence, r.elapsed_s,
+      r.prior_spread_m * 1e3, r.posterior_spread_m * 1e3);
   if (r.next.found) {
     std::string where;
     if (!r.places_rad.empty() && !r.places_rad.front().empty()) {

@@ -17,17 +17,21 @@
 namespace robomill::report::detail {
 namespace {
 
-/// The tests of experiments.csv (green circles stable, red crosses chatter)
-/// and the next test (a star) on a figure of spindle speed and depth.
-void tests_overlay(const std::optional<Table>& tests, const nlohmann::json& summary, Figure& f) {
+/// The tests of experiments.csv made at `place` (green circles stable, red
+/// crosses chatter) and the next test there (a star) on a figure of spindle
+/// speed and depth.
+void tests_overlay(const std::optional<Table>& tests, const nlohmann::json& summary, Figure& f,
+                   int place = 0) {
   if (tests && tests->has("spindle_rpm") && tests->has("depth_mm") && tests->has("chatter")) {
     const std::vector<double> rpm = tests->numbers("spindle_rpm"),
                               depth = tests->numbers("depth_mm");
     const std::vector<double> chatter = tests->numbers("chatter");
+    const std::vector<double> places =
+        tests->has("place") ? tests->numbers("place") : std::vector<double>(rpm.size(), 0.0);
     for (int c = 0; c < 2; ++c) {
       std::vector<double> x, y;
       for (std::size_t i = 0; i < rpm.size(); ++i) {
-        if ((chatter[i] > 0.5) == (c == 1)) {
+        if ((chatter[i] > 0.5) == (c == 1) && places[i] == place) {
           x.push_back(rpm[i]);
           y.push_back(depth[i]);
         }
@@ -42,7 +46,7 @@ void tests_overlay(const std::optional<Table>& tests, const nlohmann::json& summ
   }
   const nlohmann::json& next =
       summary.contains("next_test") ? summary["next_test"] : nlohmann::json();
-  if (next.is_object() && next.value("found", false)) {
+  if (next.is_object() && next.value("found", false) && next.value("place", 0) == place) {
     nlohmann::json star = marker_trace({number_of(next, "spindle_rpm")}, {number_of(next, "ap_mm")},
                                        fmt::format("next test ({})", next.value("strategy", "")),
                                        "#ff7f0e", "star", 16);
@@ -51,24 +55,92 @@ void tests_overlay(const std::optional<Table>& tests, const nlohmann::json& summ
   }
 }
 
-/// A band (q05 to q95, filled) and its median from a lobes_quantiles table.
-void add_band(const Table& q, const std::string& label, const std::string& fill, std::size_t colour,
-              Figure& f) {
-  const std::vector<double> rpm = q.numbers("spindle_rpm");
-  nlohmann::json low =
-      line_trace(rpm, q.numbers("depth_limit_q05_mm"), label + ": 5 %", colour, "dot");
+/// A band (q05 to q95, filled) and its median.
+void add_band(const std::vector<double>& rpm, const std::vector<double>& q05,
+              const std::vector<double>& q50, const std::vector<double>& q95,
+              const std::string& label, const std::string& fill, std::size_t colour, Figure& f) {
+  nlohmann::json low = line_trace(rpm, q05, label + ": 5 %", colour, "dot");
   low["legendgroup"] = label;
   f.data.push_back(low);
-  nlohmann::json high =
-      line_trace(rpm, q.numbers("depth_limit_q95_mm"), label + ": 95 %", colour, "dot");
+  nlohmann::json high = line_trace(rpm, q95, label + ": 95 %", colour, "dot");
   high["fill"] = "tonexty";
   high["fillcolor"] = fill;
   high["legendgroup"] = label;
   f.data.push_back(high);
-  nlohmann::json median =
-      line_trace(rpm, q.numbers("depth_limit_q50_mm"), label + ": median", colour, "dash");
+  nlohmann::json median = line_trace(rpm, q50, label + ": median", colour, "dash");
   median["legendgroup"] = label;
   f.data.push_back(median);
+}
+
+/// The band of a lobes_quantiles table.
+void add_band(const Table& q, const std::string& label, const std::string& fill, std::size_t colour,
+              Figure& f) {
+  add_band(q.numbers("spindle_rpm"), q.numbers("depth_limit_q05_mm"),
+           q.numbers("depth_limit_q50_mm"), q.numbers("depth_limit_q95_mm"), label, fill, colour,
+           f);
+}
+
+/// A robot's other places (places.csv): per place its lobes before and
+/// after, with the tests made there; the posture from summary.json.
+void place_figures(const Outputs& o, const std::optional<Table>& tests, Content& c) {
+  const auto places = o.table("places.csv", c, false);
+  if (!places || !places->has("place") || !places->has("posterior_q50_mm"))
+    return;
+  const std::vector<double> place = places->numbers("place");
+  const int count =
+      place.empty() ? 0 : static_cast<int>(*std::max_element(place.begin(), place.end())) + 1;
+  for (int p = 1; p < count; ++p) {
+    std::vector<std::vector<double>> column(7);
+    const char* names[7] = {"spindle_rpm",     "prior_q05_mm",     "prior_q50_mm",
+                            "prior_q95_mm",    "posterior_q05_mm", "posterior_q50_mm",
+                            "posterior_q95_mm"};
+    for (int k = 0; k < 7; ++k) {
+      const std::vector<double> all = places->numbers(names[k]);
+      for (std::size_t i = 0; i < all.size(); ++i)
+        if (place[i] == p)
+          column[static_cast<std::size_t>(k)].push_back(all[i]);
+    }
+    std::string posture;
+    if (o.summary.contains("places") && o.summary["places"].is_array() &&
+        static_cast<std::size_t>(p) < o.summary["places"].size()) {
+      for (const auto& angle : o.summary["places"][static_cast<std::size_t>(p)]["posture_deg"])
+        posture += fmt::format("{}{:.4g}", posture.empty() ? "" : ", ", angle.get<double>());
+    }
+    Figure f = xy_figure(fmt::format("Place {}: the lobes before and after", p),
+                         "spindle speed (rpm)", "limiting depth (mm)");
+    f.caption = fmt::format(
+        "At the robot's posture [{}] deg: the limiting depth's 5-95 % band under the prior "
+        "(grey) and the posterior (blue), the tests made here and the next test if it is here. "
+        "The stiffness a test reveals at one posture holds at every posture.",
+        posture);
+    add_band(column[0], column[1], column[2], column[3], "prior", "rgba(128, 128, 128, 0.22)", 7,
+             f);
+    add_band(column[0], column[4], column[5], column[6], "posterior", "rgba(31, 119, 180, 0.28)", 0,
+             f);
+    tests_overlay(tests, o.summary, f, p);
+    c.figures.push_back(std::move(f));
+  }
+}
+
+/// Hammer tests (hammer_modes.csv): each fitted mode's frequency against
+/// the nearest predicted mode's, under the prior and the posterior.
+void hammer_figure(const Outputs& o, Content& c) {
+  const auto modes = o.table("hammer_modes.csv", c, false);
+  if (!modes || !modes->has("fn_hz") || !modes->has("posterior_fn_hz") || modes->rows() == 0)
+    return;
+  const std::vector<double> fitted = modes->numbers("fn_hz");
+  Figure f =
+      xy_figure("Hammer tests: fitted and predicted modes", "fitted fn (Hz)", "predicted fn (Hz)");
+  f.caption =
+      "Each mode fitted to a hammer test's FRF against the nearest predicted mode at that "
+      "posture (the posterior median; grey: the prior's): on the line they agree.";
+  const auto [low, high] = std::minmax_element(fitted.begin(), fitted.end());
+  f.data.push_back(line_trace({*low, *high}, {*low, *high}, "equal", 7, "dash"));
+  f.data.push_back(
+      marker_trace(fitted, modes->numbers("prior_fn_hz"), "prior", "#7f7f7f", "circle-open", 9));
+  f.data.push_back(
+      marker_trace(fitted, modes->numbers("posterior_fn_hz"), "posterior", "#1f77b4", "x", 10));
+  c.figures.push_back(std::move(f));
 }
 
 void band_figures(const Outputs& o, const std::optional<Table>& tests, Content& c) {
@@ -247,6 +319,8 @@ void chatter_frequency_figure(const std::optional<Table>& tests, Content& c) {
 void learning_figures(const Outputs& o, Content& c) {
   const auto tests = o.table("experiments.csv", c, false);
   band_figures(o, tests, c);
+  place_figures(o, tests, c);
+  hammer_figure(o, c);
   marginal_figures(o, c);
   correlation_figure(o, c);
   chatter_frequency_figure(tests, c);

@@ -264,11 +264,16 @@ std::string key_inputs_json(const job::Job& job) {
     rows.add(job.recordings_listed ? "recordings" : "recording", "file", what + ")");
   }
   if (!job.experiments.empty()) {
-    int chatter = 0;
-    for (const job::Experiment& e : job.experiments)
+    int chatter = 0, hammer = 0;
+    for (const job::Experiment& e : job.experiments) {
       chatter += e.chatter ? 1 : 0;
+      hammer += e.hammer() ? 1 : 0;
+    }
+    const auto cuts = static_cast<int>(job.experiments.size()) - hammer;
     rows.add("experiments", "tests",
-             fmt::format("{} ({} with chatter)", job.experiments.size(), chatter));
+             hammer == 0 ? fmt::format("{} ({} with chatter)", cuts, chatter)
+                         : fmt::format("{} cuts ({} with chatter), {} hammer tests", cuts, chatter,
+                                       hammer));
   }
   nlohmann::json document = {{"job", job.source.string()}, {"inputs", rows.take()}};
   if (!job.name.empty())

@@ -50,6 +50,8 @@ run toolpath-uncertainty toolpath "$EX/uncertainty_toolpath.yaml" --set uncertai
 run listen          listen     "$EX/listen/benchmark_displacement_wav.yaml"
 run learn           learn      "$EX/learn/anchor_tool.yaml" --set learn.samples=500 \
     --set uncertainty.samples=200
+# A robot learned from hammer tests: the other places' lobes and the fitted modes.
+run learn-hammer    learn      "$EX/learn/kr270_hammer.yaml" --set learn.samples=300
 run identify-stiffness identify-stiffness "$EX/data/000_kr600_loading_tests.csv" \
     --job "$EX/000_kr600_multipoint.yaml"
 

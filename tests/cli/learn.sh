@@ -3,7 +3,7 @@
 # coarser grid) writes its files, prints the next test in one line and a
 # summary with every variable's prior and posterior; the same seed gives the
 # same posterior.csv on 1 and 2 threads; a job it cannot learn is a clear
-# error that writes nothing.
+# error that writes nothing; the hammer example's files and errors.
 source "$(dirname "$0")/lib.bash" "$@"
 JOB="$SOURCE/examples/learn/anchor_tool.yaml"
 FAST=(--set learn.samples=400 --set uncertainty.samples=100 --set "stability.speeds.count=40"
@@ -37,4 +37,20 @@ cmp -s "$WORK/a/posterior.csv" "$WORK/b/posterior.csv" || fail "posterior.csv di
 expect_exit2 "uncertainty" learn "$SOURCE/examples/demo.yaml"
 sed 's/path: cutting.Krc/path: process.ae/' "$JOB" > "$WORK/ae.yaml"
 expect_exit2 "process.ae" learn "$WORK/ae.yaml"
+
+# A robot learned from hammer tests (examples/learn/kr270_hammer.yaml): the
+# fitted modes, every place's lobes and P(chatter) map; a hammer test
+# without its posture, or at a position the robot cannot reach, is an error
+# naming it.
+HAMMER="$SOURCE/examples/learn/kr270_hammer.yaml"
+"$ROBOMILL" learn "$HAMMER" --set learn.samples=200 --out "$WORK/h" --quiet || fail "hammer: exit code"
+[ "$(wc -l < "$WORK/h/hammer_modes.csv")" -eq 9 ] || fail "hammer_modes.csv: not 8 fitted modes"
+for f in places.csv chatter_probability_places.csv; do
+  [ -s "$WORK/h/$f" ] || fail "hammer: no $f"
+done
+grep -q '"hammer_modes"' "$WORK/h/summary.json" || fail "summary.json lacks hammer_modes"
+expect_exit2 "experiments[0].posture" learn "$HAMMER" \
+  --set "experiments=[{frf: {x: {file: data/kr270_hammer_a_x.csv, units: m/N}}}]"
+expect_exit2 "experiments[0].position" learn "$HAMMER" \
+  --set "experiments=[{position: [5000, 0, 0], frf: {x: {file: data/kr270_hammer_a_x.csv, units: m/N}}}]"
 finish

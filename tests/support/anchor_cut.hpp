@@ -17,4 +17,16 @@ inline std::string anchor_cut_yaml() {
          "direction: down}\n";
 }
 
+/// The anchor's nominal symmetric mode (the prior means: 1500 Hz, ζ 0.03,
+/// 10 N/µm in x and y) and a coarse 11-speed zero-order grid: the job's
+/// dynamics: and stability: lines for tests whose evidence is no cut's limit.
+inline std::string anchor_mode_and_coarse_grid_yaml() {
+  return "dynamics:\n"
+         "  modes:\n"
+         "    - {direction: x, fn: 1500 Hz, zeta: 0.03, k: 1.0e7 N/m}\n"
+         "    - {direction: y, fn: 1500 Hz, zeta: 0.03, k: 1.0e7 N/m}\n"
+         "stability: {method: zoa, speeds: {from: 4000 rpm, to: 12000 rpm, count: 11}, "
+         "depth_max: 8 mm, depths: 10}\n";
+}
+
 }  // namespace robomill::test

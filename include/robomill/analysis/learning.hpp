@@ -62,6 +62,20 @@ struct LearnedExperiment {
   bool from_recording = false;
 };
 
+/// A mode fitted to a hammer test's FRF, and the nearest predicted mode
+/// (the one its likelihood compares it with) before and after learning.
+struct LearnedHammerMode {
+  std::size_t index = 0;  ///< the test in job.experiments
+  int line = 0;
+  int place = 0;  ///< where it was measured
+  int axis = 0;   ///< the driving-point axis: 0 x, 1 y, 2 z (tool frame)
+  double fn_hz = 0.0, zeta = 0.0, k_n_per_m = 0.0;  ///< fitted
+  /// The nearest predicted mode's fn and k along the axis: medians over the
+  /// prior draws and the posterior samples (0 when none has one).
+  double prior_fn_hz = 0.0, prior_k_n_per_m = 0.0;
+  double posterior_fn_hz = 0.0, posterior_k_n_per_m = 0.0;
+};
+
 /// An experiment left out, and why (a recording judged "unknown").
 struct SkippedExperiment {
   std::size_t index = 0;  ///< in job.experiments
@@ -108,8 +122,9 @@ struct LearningResult {
   double prior_spread_m = 0.0, posterior_spread_m = 0.0, spread_before_last_m = 0.0;
   std::vector<LearnedExperiment> experiments;  ///< the ones used
   std::vector<SkippedExperiment> skipped;
-  std::vector<std::string> warnings;  ///< contradictory or surprising tests
-  learning::SmcPosterior sampler;     ///< diagnostics (its particles are the w coordinates)
+  std::vector<LearnedHammerMode> hammer_modes;  ///< every hammer test's fitted modes
+  std::vector<std::string> warnings;            ///< contradictory or surprising tests
+  learning::SmcPosterior sampler;  ///< diagnostics (its particles are the w coordinates)
   NextTest next;
   double elapsed_s = 0.0;
 };

@@ -30,11 +30,13 @@
 #include "robomill/dynamics/modal_model.hpp"
 #include "robomill/job/job.hpp"
 #include "robomill/stability/zero_order.hpp"
+#include "robomill/tool/tool.hpp"
 #include "robomill/uncertainty/distribution.hpp"
 
 namespace robomill::analysis {
 
-/// The zero-order stability limit of a job with its uncertain inputs set.
+/// The stability limit of a job with its uncertain inputs set: zero-order
+/// by default, a time-domain method's with learn.method.
 class LearningModel {
  public:
   /// The model of `job` (a tool, a linear cutting law, a process, a modal
@@ -63,8 +65,13 @@ class LearningModel {
   /// `out` (same size). Returns false, writing nothing, when x gives no
   /// structure (a damping ratio ≥ 1, a non-positive stiffness or frequency,
   /// a negative coefficient). Thread-safe.
-  bool limits(const Eigen::VectorXd& x, int place, std::span<const double> speeds_rad_s,
+  bool limits(const Eigen::VectorXd& x, int place, int cut, std::span<const double> speeds_rad_s,
               std::span<stability::ZeroOrderLimit> out) const;
+  /// Of the job's own cut (cut 0).
+  bool limits(const Eigen::VectorXd& x, int place, std::span<const double> speeds_rad_s,
+              std::span<stability::ZeroOrderLimit> out) const {
+    return limits(x, place, 0, speeds_rad_s, out);
+  }
   /// At the first place (the job's own structure).
   bool limits(const Eigen::VectorXd& x, std::span<const double> speeds_rad_s,
               std::span<stability::ZeroOrderLimit> out) const {
@@ -78,6 +85,19 @@ class LearningModel {
   const std::vector<std::vector<double>>& places() const noexcept { return places_; }
   /// The place of a posture (exactly one of places()); 0 for an empty one.
   int place_of(const std::vector<double>& posture_rad) const;
+  /// The posture of job.experiments[index] (its `posture`, its `position`'s
+  /// inverse kinematics, or empty: robot.posture's); empty without a robot.
+  const std::vector<double>& experiment_posture(std::size_t index) const {
+    return experiment_postures_.at(index);
+  }
+
+  /// The cuts whose limits are solved: 0 the job's process, then each other
+  /// radial depth and direction of the experiments (`ae`, `direction`).
+  int cut_of(const job::Experiment& test) const;
+
+  /// The structure's modes at `place` for values x (mass-normalized shapes
+  /// in the tool frame); false when x gives no structure.
+  bool modes(const Eigen::VectorXd& x, int place, std::vector<dynamics::Mode>& out) const;
   bool robot() const noexcept { return !robot_places_.empty(); }
 
   int teeth() const noexcept { return teeth_; }
@@ -126,6 +146,7 @@ class LearningModel {
   /// The structure's modes at `place` (the modal table, or the robot's).
   bool modes_at(const Structure& structure, int place, std::vector<dynamics::Mode>& modes) const;
   void set_up_robot(const job::Job& job);
+  void set_up_cuts(const job::Job& job);
   /// The law and modes with the values set; false when they are not physical.
   bool apply(const Eigen::VectorXd& x, Structure& out) const;
   void check_against_the_job(const job::Job& job) const;
@@ -137,7 +158,17 @@ class LearningModel {
   std::vector<std::vector<double>> places_;
   std::vector<RobotPlace> robot_places_;
   Structure nominal_;
-  stability::MeanCuttingStiffnessBasis basis_;
+  /// A cut's radial depth and direction, and its mean cutting stiffness.
+  struct Cut {
+    cutting::MillingProcess process;  ///< the job's, with the cut's ae and direction
+    stability::MeanCuttingStiffnessBasis basis;
+  };
+  /// learn.method: the zero-order limit, or a time-domain method's.
+  job::StabilitySettings::Method method_ = job::StabilitySettings::Method::zoa;
+  int steps_ = 40;  ///< stability.discretization (time-domain methods)
+  std::optional<tool::Tool> tool_;
+  std::vector<Cut> cuts_;
+  std::vector<std::vector<double>> experiment_postures_;
   int teeth_ = 0;
   double search_depth_m_ = 0.0;
 };
