@@ -51,29 +51,26 @@ RecordingSpec tachometer_spec(const RecordingSpec& spec) {
   return tach;
 }
 
-/// Calls `visit(sample_index, value)` for every sample of a fresh reader.
+/// Calls `visit(sample_index, value)` for every sample of a fresh reader;
+/// returns the channel's sample rate (Hz).
 template <class Visit>
-void stream(const RecordingSpec& tach, Visit visit) {
+double stream(const RecordingSpec& tach, Visit visit) {
   const auto source = open_recording(tach);
   std::vector<double> block(kBlock);
   std::size_t index = 0;
   for (std::size_t n; (n = source->read(block)) > 0;)
     for (std::size_t i = 0; i < n; ++i)
       visit(index++, block[i]);
+  return source->info().sample_rate_hz;
 }
 
 }  // namespace
 
 TachometerReading read_tachometer(const RecordingSpec& spec) {
   const RecordingSpec tach = tachometer_spec(spec);
-  double rate_hz = 0.0;
-  {
-    const auto source = open_recording(tach);
-    rate_hz = source->info().sample_rate_hz;
-  }
-  // Pass 1: the range.
+  // Pass 1: the range (and the sample rate).
   double low = std::numeric_limits<double>::infinity(), high = -low;
-  stream(tach, [&](std::size_t, double v) {
+  const double rate_hz = stream(tach, [&](std::size_t, double v) {
     if (std::isfinite(v)) {
       low = std::min(low, v);
       high = std::max(high, v);

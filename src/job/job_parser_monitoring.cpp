@@ -23,6 +23,16 @@ QuantityField rpm() {
   return field(dimensions::angular_speed, kRpm, "rpm", kPositive);
 }
 
+/// A channel number of a sound or UFF file, 1 … 4096; nullopt for
+/// anything else (a sign, a fraction, trailing text).
+std::optional<int> channel_number(const std::string& text) {
+  int number = 0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), number);
+  if (error != std::errc() || end != text.data() + text.size() || number < 1 || number > 4096)
+    return std::nullopt;
+  return number;
+}
+
 monitoring::SignalKind signal_kind(const std::string& word) {
   using monitoring::SignalKind;
   if (word == "acceleration")
@@ -64,15 +74,12 @@ io::RecordingSpec read_recording(SectionReader& r, const Job& job, bool listed,
     if (*channel == "mix") {
       spec.channel = 0;
     } else {
-      int number = 0;
-      const auto [end, error] =
-          std::from_chars(channel->data(), channel->data() + channel->size(), number);
-      if (error != std::errc() || end != channel->data() + channel->size() || number < 1 ||
-          number > 4096)
+      const std::optional<int> number = channel_number(*channel);
+      if (!number)
         r.fail("channel", fmt::format("expected a channel number from 1 (or mix, the mean of all "
                                       "channels), got '{}'",
                                       *channel));
-      spec.channel = number;
+      spec.channel = *number;
     }
   }
   spec.variable = r.optional_text("variable").value_or("");
@@ -98,15 +105,13 @@ io::RecordingSpec read_recording(SectionReader& r, const Job& job, bool listed,
   spec.tachometer = r.optional_text("tachometer").value_or("");
   if (!spec.tachometer.empty() &&
       (spec.format == io::RecordingFormat::sound_file || spec.format == io::RecordingFormat::uff)) {
-    int number = 0;
-    const std::string& text = spec.tachometer;
-    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), number);
-    if (error != std::errc() || end != text.data() + text.size() || number < 1 || number > 4096)
-      r.fail(
-          "tachometer",
-          fmt::format("expected the channel number (from 1) of the pulse train, got '{}'", text));
-    if (number == spec.channel)
-      r.fail("tachometer", fmt::format("channel {} is the signal's own (channel:)", number));
+    const std::optional<int> number = channel_number(spec.tachometer);
+    if (!number)
+      r.fail("tachometer", fmt::format("expected the channel number (from 1) of the pulse train, "
+                                       "got '{}'",
+                                       spec.tachometer));
+    if (*number == spec.channel)
+      r.fail("tachometer", fmt::format("channel {} is the signal's own (channel:)", *number));
   } else if (!spec.tachometer.empty() && spec.tachometer == spec.column) {
     r.fail("tachometer", fmt::format("column '{}' is the signal's own (column:)", spec.column));
   }
