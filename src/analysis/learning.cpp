@@ -87,7 +87,6 @@ struct ObservedMode {
 struct Evidence {
   std::vector<job::Experiment> tests;
   std::vector<PowerBasis> power;                  ///< per test (used where it gives a power)
-  std::vector<int> place_of;                      ///< per test
   std::vector<int> group_of;                      ///< per test: its (place, cut)
   std::vector<std::size_t> speed_of;              ///< per test, in its group's list
   std::vector<std::pair<int, int>> groups;        ///< (place, cut)
@@ -116,7 +115,6 @@ Evidence evidence_of(const LearningModel& model, const job::Job& job,
     }
     std::vector<double>& speeds = e.speeds_rad_s[static_cast<std::size_t>(g - e.groups.begin())];
     const auto it = std::find(speeds.begin(), speeds.end(), t.spindle_rad_s);
-    e.place_of.push_back(group.first);
     e.group_of.push_back(static_cast<int>(g - e.groups.begin()));
     e.speed_of.push_back(static_cast<std::size_t>(it - speeds.begin()));
     if (it == speeds.end())

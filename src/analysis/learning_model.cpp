@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "robomill/analysis/job_draws.hpp"
+#include "robomill/analysis/stability_diagram.hpp"
 #include "robomill/analysis/structure.hpp"
 #include "robomill/core/error.hpp"
 #include "robomill/planning/workpiece_placement.hpp"
@@ -393,20 +394,12 @@ bool LearningModel::limits(const Eigen::VectorXd& x, int place, int cut,
   std::vector<dynamics::Mode> modes;
   if (!modes_at(structure, place, modes))
     return false;
-  // The grid only has to find each crossing (the limit is refined on the
-  // exact eigenvalues): 40 points per peak and 100 elsewhere give the full
-  // grid's limits (150 and 1500 points) to 1e-11 at all but 1 of 60 000
-  // (300 prior draws of the anchor case × 200 speeds; with 30 per peak, 15
-  // crossings are missed), at a third of the cost (docs/learning.md §2).
   const Cut& cut_of_test = cuts_[static_cast<std::size_t>(cut)];
   if (method_ != job::StabilitySettings::Method::zoa) {
     // A time-domain limit (stability/lobes.hpp), on this thread: the
     // sampler runs the samples in parallel.
-    using M = job::StabilitySettings::Method;
     stability::LobeOptions options;
-    options.method = method_ == M::sdm   ? stability::FloquetMethod::sdm
-                     : method_ == M::fdm ? stability::FloquetMethod::fdm
-                                         : stability::FloquetMethod::fdm2;
+    options.method = floquet_method(method_);
     options.steps = steps_;
     options.depth_max_m = search_depth_m_;
     options.threads = 1;
@@ -425,6 +418,11 @@ bool LearningModel::limits(const Eigen::VectorXd& x, int place, int cut,
     }
     return true;
   }
+  // The grid only has to find each crossing (the limit is refined on the
+  // exact eigenvalues): 40 points per peak and 100 elsewhere give the full
+  // grid's limits (150 and 1500 points) to 1e-11 at all but 1 of 60 000
+  // (300 prior draws of the anchor case × 200 speeds; with 30 per peak, 15
+  // crossings are missed), at a third of the cost (docs/learning.md §2).
   stability::ZeroOrderOptions options;
   options.global_points = 100;
   options.points_per_peak = 40;

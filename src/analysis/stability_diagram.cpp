@@ -22,17 +22,6 @@ namespace {
 
 using Settings = job::StabilitySettings;
 
-stability::FloquetMethod floquet_method(Settings::Method method) {
-  switch (method) {
-    case Settings::Method::sdm:
-      return stability::FloquetMethod::sdm;
-    case Settings::Method::fdm2:
-      return stability::FloquetMethod::fdm2;
-    default:
-      return stability::FloquetMethod::fdm;
-  }
-}
-
 Bifurcation bifurcation_from(const std::string& name) {
   if (name == "hopf")
     return Bifurcation::hopf;
@@ -255,6 +244,17 @@ std::optional<double> interpolated_limit_m(const std::vector<StabilityLimit>& li
     }
   }
   return limits.back().depth_limit_m;
+}
+
+stability::FloquetMethod floquet_method(job::StabilitySettings::Method method) {
+  switch (method) {
+    case Settings::Method::sdm:
+      return stability::FloquetMethod::sdm;
+    case Settings::Method::fdm2:
+      return stability::FloquetMethod::fdm2;
+    default:
+      return stability::FloquetMethod::fdm;
+  }
 }
 
 ExperimentComparison compare_experiments(const std::vector<job::Experiment>& experiments,

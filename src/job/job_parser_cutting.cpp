@@ -194,21 +194,11 @@ std::optional<cutting::MillingProcess> read_process(SectionReader& root,
     process.feed_per_tooth_m = feed_rate / (tool->teeth * revolutions_per_s);
   }
   process.axial_depth_m = r.quantity("ap", length_mm());
-  process.radial_depth_m = r.quantity("ae", length_mm());
-  process.direction = r.choice("direction", {"down", "up"}, "down") == "up"
-                          ? cutting::MillingDirection::up
-                          : cutting::MillingDirection::down;
+  process.radial_depth_m = read_radial_depth(r, tool);
+  process.direction = read_direction(r);
   r.finish();
 
   if (tool) {
-    // A relative tolerance keeps "ae: 10 mm" on a 10 mm cutter (slotting)
-    // valid despite rounding in unit conversion.
-    if (process.radial_depth_m > tool->diameter_m * (1.0 + 1e-9)) {
-      r.fail("ae", "radial depth of cut " +
-                       detail::format_in_unit(process.radial_depth_m, length_mm()) +
-                       " exceeds the tool diameter " +
-                       detail::format_in_unit(tool->diameter_m, length_mm()));
-    }
     if (process.axial_depth_m > tool->overhang_m * (1.0 + 1e-9)) {
       r.fail("ap", "axial depth of cut " +
                        detail::format_in_unit(process.axial_depth_m, length_mm()) +
@@ -217,6 +207,22 @@ std::optional<cutting::MillingProcess> read_process(SectionReader& root,
     }
   }
   return process;
+}
+
+double read_radial_depth(SectionReader& r, const std::optional<tool::ToolSpec>& tool) {
+  const double ae = r.quantity("ae", length_mm());
+  // A relative tolerance keeps "ae: 10 mm" on a 10 mm cutter (slotting)
+  // valid despite rounding in unit conversion.
+  if (tool && ae > tool->diameter_m * (1.0 + 1e-9))
+    r.fail("ae", "radial depth of cut " + detail::format_in_unit(ae, length_mm()) +
+                     " exceeds the tool diameter " +
+                     detail::format_in_unit(tool->diameter_m, length_mm()));
+  return ae;
+}
+
+cutting::MillingDirection read_direction(SectionReader& r) {
+  return r.choice("direction", {"down", "up"}, "down") == "up" ? cutting::MillingDirection::up
+                                                               : cutting::MillingDirection::down;
 }
 
 ForcesSettings read_forces(SectionReader& root, const std::optional<tool::ToolSpec>& tool) {

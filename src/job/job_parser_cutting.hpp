@@ -26,6 +26,13 @@ std::optional<cutting::MillingProcess> read_process(SectionReader& root,
                                                     const std::optional<tool::ToolSpec>& tool);
 
 /// `forces:`: what `robomill forces` samples (revolutions, steps, elements).
+/// `ae` of section `r` (mm): no wider than the tool's diameter (slotting
+/// at exactly the diameter allowed). Throws InputError naming `ae`.
+double read_radial_depth(SectionReader& r, const std::optional<tool::ToolSpec>& tool);
+
+/// `direction` of section `r`: down (climb, the default) or up.
+cutting::MillingDirection read_direction(SectionReader& r);
+
 ForcesSettings read_forces(SectionReader& root, const std::optional<tool::ToolSpec>& tool);
 
 }  // namespace robomill::job::detail

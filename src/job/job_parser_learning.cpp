@@ -2,8 +2,10 @@
 
 #include <climits>
 
+#include "job_parser_cutting.hpp"
 #include "job_parser_dynamics.hpp"
 #include "job_parser_monitoring.hpp"
+#include "job_parser_stability.hpp"
 #include "quantity_fields.hpp"
 
 namespace robomill::job::detail {
@@ -26,17 +28,10 @@ void read_hammer_test(SectionReader& e, const Job& job, Experiment& experiment) 
 
 /// The cut of a test where it differs from the job's process.
 void read_test_cut(SectionReader& e, const Job& job, Experiment& experiment) {
-  if (e.has("ae")) {
-    experiment.radial_depth_m = e.quantity("ae", length_mm());
-    if (job.tool && *experiment.radial_depth_m > job.tool->diameter_m * (1.0 + 1e-9))
-      e.fail("ae",
-             "radial depth of cut " + format_in_unit(*experiment.radial_depth_m, length_mm()) +
-                 " exceeds the tool diameter " + format_in_unit(job.tool->diameter_m, length_mm()));
-  }
+  if (e.has("ae"))
+    experiment.radial_depth_m = read_radial_depth(e, job.tool);
   if (e.has("direction"))
-    experiment.direction = e.choice("direction", {"down", "up"}, "down") == "up"
-                               ? cutting::MillingDirection::up
-                               : cutting::MillingDirection::down;
+    experiment.direction = read_direction(e);
   if (e.has("feed_per_tooth"))
     experiment.feed_per_tooth_m = e.quantity("feed_per_tooth", length_mm());
 }
@@ -122,11 +117,7 @@ void read_learn(SectionReader& root, Job& job) {
   s.chatter_freq_sd_hz =
       r.quantity_or("chatter_freq_sd", field(dimensions::frequency, 1.0, "Hz", kPositive), 20.0);
   s.power_sd_w = r.quantity_or("power_sd", field(dimensions::power, 1.0, "W", kPositive), 20.0);
-  const std::string method = r.choice("method", {"zoa", "sdm", "fdm", "fdm2"}, "zoa");
-  s.method = method == "sdm"    ? StabilitySettings::Method::sdm
-             : method == "fdm"  ? StabilitySettings::Method::fdm
-             : method == "fdm2" ? StabilitySettings::Method::fdm2
-                                : StabilitySettings::Method::zoa;
+  s.method = read_stability_method(r, "zoa");
   s.frf_fn_sd = r.quantity_or("frf_fn_sd", dimensionless(kPositive), 0.02);
   s.frf_k_sd = r.quantity_or("frf_k_sd", dimensionless(kPositive), 0.20);
   s.frf_zeta_sd = r.quantity_or("frf_zeta_sd", dimensionless(kPositive), 0.30);

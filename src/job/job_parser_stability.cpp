@@ -17,6 +17,15 @@
 
 namespace robomill::job::detail {
 
+StabilitySettings::Method read_stability_method(SectionReader& r, const std::string& fallback) {
+  using Method = StabilitySettings::Method;
+  const std::string method = r.choice("method", {"zoa", "sdm", "fdm", "fdm2"}, fallback);
+  return method == "zoa"   ? Method::zoa
+         : method == "sdm" ? Method::sdm
+         : method == "fdm" ? Method::fdm
+                           : Method::fdm2;
+}
+
 std::optional<StabilitySettings> read_stability(SectionReader& root,
                                                 const std::optional<tool::ToolSpec>& tool,
                                                 const std::vector<ModeSpec>& modes,
@@ -29,11 +38,7 @@ std::optional<StabilitySettings> read_stability(SectionReader& root,
   using Settings = StabilitySettings;
   Settings settings;
 
-  const std::string method = r.choice("method", {"zoa", "sdm", "fdm", "fdm2"}, "fdm");
-  settings.method = method == "zoa"   ? Settings::Method::zoa
-                    : method == "sdm" ? Settings::Method::sdm
-                    : method == "fdm" ? Settings::Method::fdm
-                                      : Settings::Method::fdm2;
+  settings.method = read_stability_method(r, "fdm");
   settings.mode = r.choice("mode", {"boundary", "map"}, "boundary") == "map"
                       ? Settings::Mode::map
                       : Settings::Mode::boundary;

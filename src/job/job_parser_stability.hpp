@@ -17,4 +17,7 @@ std::optional<StabilitySettings> read_stability(SectionReader& root,
                                                 const std::vector<ModeSpec>& modes,
                                                 Job::DynamicsSource source);
 
+/// `method` of section `r` (stability, learn): zoa, sdm, fdm or fdm2.
+StabilitySettings::Method read_stability_method(SectionReader& r, const std::string& fallback);
+
 }  // namespace robomill::job::detail

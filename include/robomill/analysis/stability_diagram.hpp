@@ -85,6 +85,10 @@ struct ExperimentComparison {
   int compared = 0;                    ///< tests inside the computed speed range
 };
 
+/// The time-domain method of a job's method name (sdm, fdm, fdm2); fdm for
+/// zoa, which callers handle before asking.
+stability::FloquetMethod floquet_method(job::StabilitySettings::Method method);
+
 /// Every test against `limits`; `modes` (optional) gives the natural
 /// frequency of an envelope's governing mode.
 ExperimentComparison compare_experiments(const std::vector<job::Experiment>& experiments,
